@@ -1,0 +1,13 @@
+# Toolchain for the firmware images: Debian's avr-gcc 5.4 (C++14, no exceptions, no RTTI).
+set(CMAKE_SYSTEM_NAME Generic)
+set(CMAKE_SYSTEM_PROCESSOR avr)
+find_program(AVR_CXX avr-g++ REQUIRED)
+find_program(AVR_CC avr-gcc REQUIRED)
+set(CMAKE_CXX_COMPILER ${AVR_CXX})
+set(CMAKE_C_COMPILER ${AVR_CC})
+set(CMAKE_ASM_COMPILER ${AVR_CC})
+find_program(AVR_OBJCOPY avr-objcopy REQUIRED)
+find_program(AVR_SIZE avr-size REQUIRED)
+find_program(AVR_NM avr-nm REQUIRED)
+set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)
+set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)

@@ -29,16 +29,24 @@ constexpr uint32_t shr_round(uint32_t x, uint8_t n) { return (x + (uint32_t{1} <
 
 // 16×16 → 32-bit products. Spelled out so avr-gcc uses its widening multiply (a few MULs)
 // instead of a full 32×32 library multiply.
-constexpr uint32_t mul_u16(uint16_t a, uint16_t b) { return static_cast<uint32_t>(a) * b; }
-constexpr int32_t mul_i16(int16_t a, int16_t b) { return static_cast<int32_t>(a) * b; }
-constexpr int32_t mul_i16_u16(int16_t a, uint16_t b) { return static_cast<int32_t>(a) * b; }
+constexpr uint32_t mul_u16(uint16_t a, uint16_t b) {
+  return static_cast<uint32_t>(a) * static_cast<uint32_t>(b);
+}
+constexpr int32_t mul_i16(int16_t a, int16_t b) {
+  return static_cast<int32_t>(a) * static_cast<int32_t>(b);
+}
+constexpr int32_t mul_i16_u16(int16_t a, uint16_t b) {
+  return static_cast<int32_t>(a) * static_cast<int32_t>(b);
+}
 
 // floor(x · a_q16 / 2^16) for any int32 x and a_q16 in [0, 65535] (a factor in [0, 1)), exact and
 // without a 64-bit product: x = hi·2^16 + lo with lo in [0, 65535], so
 // x·a/2^16 = hi·a + lo·a/2^16, where hi·a fits int32 and lo·a fits uint32. Two 16×16 multiplies.
+// (hi is taken through an unsigned shift: with `x >> 16` GCC folds the casts away and falls
+// back to a 32×32 library multiply on AVR.)
 constexpr int32_t mul_q16(int32_t x, uint16_t a_q16) {
-  return mul_i16_u16(static_cast<int16_t>(x >> 16), a_q16) +
-         static_cast<int32_t>(mul_u16(static_cast<uint16_t>(x & 0xFFFF), a_q16) >> 16);
+  return mul_i16_u16(static_cast<int16_t>(static_cast<uint32_t>(x) >> 16), a_q16) +
+         static_cast<int32_t>(mul_u16(static_cast<uint16_t>(x), a_q16) >> 16);
 }
 
 // Compile-time conversions for constants (e.g. default gains). Never call them at run time in

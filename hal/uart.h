@@ -1,0 +1,35 @@
+// Interrupt-driven UART0, 8N1, 115200 baud, with RX and TX ring buffers.
+// Baud: U2X0 = 1, UBRR0 = 16 -> 16 MHz / (8 x 17) = 117,647 baud, +2.1 % from 115,200.
+// Inside the datasheet's recommended +-2.5 % receiver error for 8N1 in double-speed mode
+// (without U2X, UBRR 8 would be -3.5 %); the Mega2560's USB bridge (16U2 at 16 MHz) uses the
+// same divider, so both ends run at the same rate.
+#pragma once
+#include <stdint.h>
+
+namespace hal {
+namespace uart {
+
+constexpr uint32_t kBaud = 115200;
+constexpr uint8_t kUbrr = 16;       // with U2X0
+constexpr uint8_t kRxBufferSize = 128;  // power of two: index wrap is a mask
+constexpr uint8_t kTxBufferSize = 128;
+
+void init();  // enables the receiver last: the host may send from then on
+
+// Main loop: next received byte, false when none is waiting.
+bool read(uint8_t& byte);
+bool rx_available();
+
+// Queues one byte. When the TX buffer is full it sleeps until the transmitter frees a slot
+// (interrupts must be enabled then; with interrupts off it pushes bytes out by polling).
+void write(uint8_t byte);
+
+// Waits until the TX ring is empty; the hardware sends the last byte or two by itself even
+// with interrupts off (used before a deliberate hang).
+void flush();
+
+// Bytes lost because the RX buffer was full (or the hardware overran), since the last call.
+uint8_t take_rx_dropped();
+
+}  // namespace uart
+}  // namespace hal

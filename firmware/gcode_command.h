@@ -14,17 +14,32 @@ struct Command {
   const char* params = nullptr;   // "S210.5 T0": words of a letter and a number, space separated
   const char* typed = nullptr;    // the command as typed (without N, checksum, comment)
 
+  // Parses the command word at the start of `text` ("M104 S210", "m104s210"): a letter and an
+  // integer code, followed by a blank, the end or a parameter letter. False if there is none.
+  bool parse(const char* text);
+  // Checks every parameter word's syntax (letter + number); prints the Error line and returns
+  // false on the first bad one. The layer calls it before its own handlers; a Machine handling
+  // extension commands should call it too.
+  bool valid(Output& out) const;
+
   bool has(char letter) const;
-  // Reads parameter `p` (a decimal number, at most 32767.99998) as Q16 into *value_q16 if present
-  // (absent: *value_q16 untouched, returns true). Out of [lo_q16, hi_q16]: prints
-  // "Error:M104 S out of range 0..275" and returns false. Nothing else is written.
-  bool q16(char p, int32_t lo_q16, int32_t hi_q16, int32_t* value_q16, Output& out) const;
-  // Same for integer parameters (line numbers, indices); a fraction is an error.
-  bool integer(char p, int32_t lo, int32_t hi, int32_t* value, Output& out) const;
+  // Reads parameter `p` as round(value × 2^frac_bits) (frac_bits 0..16; 0 = integer, a
+  // fraction is then an error) into *value if present; absent: *value untouched, returns true.
+  // Malformed, fractional integer or outside [lo, hi]: prints "Error:M104 S out of range 0..275"
+  // ("must be an integer in" for frac_bits 0) and returns false. Nothing else is written.
+  bool fixed(char p, uint8_t frac_bits, int32_t lo, int32_t hi, int32_t* value, Output& out) const;
+  bool q16(char p, int32_t lo_q16, int32_t hi_q16, int32_t* value_q16, Output& out) const {
+    return fixed(p, 16, lo_q16, hi_q16, value_q16, out);
+  }
+  bool integer(char p, int32_t lo, int32_t hi, int32_t* value, Output& out) const {
+    return fixed(p, 0, lo, hi, value, out);
+  }
   // Prints "Error:M104: missing S" and returns false when `p` is absent.
   bool require(char p, Output& out) const;
   // "M104" — for error lines.
   void write_name(Output& out) const;
+  // The number token of parameter `p` (first occurrence), nullptr if absent.
+  const char* find(char p) const;
 };
 
 }  // namespace gcode

@@ -30,21 +30,37 @@ class Interpreter {
  private:
   enum class Wait : uint8_t { kNone, kHeating, kReach };  // M109 S (heat only) / M109 R (either way)
 
+  using Handler = void (Interpreter::*)(const Command&);
+
   void process_line(char* line);
-  void execute(const Command& cmd, bool m112_done);
-  bool dispatch(const Command& cmd);  // false: unknown command
+  void execute(const Command& cmd);
+  Handler handler_for(const Command& cmd) const;  // nullptr: not a built-in command
+  void emergency_stop();
   void finish_wait();
   void write_temperatures();
   void request_resend(const FlashText* reason);
 
   // Command handlers (gcode_commands.cpp); each validates everything before calling the machine.
-  void set_target(const Command& cmd, bool wait);
-  void set_autoreport(const Command& cmd);
-  void pid(const Command& cmd);
-  void fan(const Command& cmd);
-  void set_line_number(const Command& cmd, bool numbered, int32_t line_number);
-  void firmware_info();
-  void report_settings();
+  void set_target(const Command& cmd);           // M104
+  void set_target_and_wait(const Command& cmd);  // M109
+  bool read_target(const Command& cmd, char p, int32_t* target_q8);
+  void report_temperatures(const Command& cmd);  // M105
+  void set_autoreport(const Command& cmd);       // M155
+  void pid(const Command& cmd);                  // M301
+  void fan_on(const Command& cmd);               // M106
+  void fan_off(const Command& cmd);              // M107
+  void cancel_wait(const Command& cmd);          // M108
+  void set_line_number(const Command& cmd);      // M110
+  void firmware_info(const Command& cmd);        // M115
+  void save_settings(const Command& cmd);        // M500
+  void load_settings(const Command& cmd);        // M501
+  void reset_settings(const Command& cmd);       // M502
+  void report_settings(const Command& cmd);      // M503
+  void clear_fault(const Command& cmd);          // M999
+  void hang(const Command& cmd);                 // D0
+  void select_tool(const Command& cmd);          // T<n>
+  void nothing(const Command& cmd);              // M112 (already done before the line checks)
+  void write_pid_gains();
 
   Machine& machine_;
   Output& out_;
@@ -55,6 +71,7 @@ class Interpreter {
   uint8_t autoreport_s_ = 0;    // M155 interval, 0 = off
   Wait wait_ = Wait::kNone;
   bool held_ = false;           // line_ holds a complete line behind the wait
+  bool ok_sent_ = false;        // the handler's reply already began with "ok" (M105)
 };
 
 }  // namespace gcode

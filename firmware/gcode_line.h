@@ -11,11 +11,11 @@ class LineAssembler {
   static constexpr uint8_t kCapacity = 96;  // bytes including the terminating NUL
 
   enum class Event : uint8_t { kNone, kLine, kOverflow };
-  // kLine: text() holds a complete, non-empty line (trailing blanks removed).
+  // kLine: text() holds a complete, non-empty line (trailing blanks removed) until the next
+  // feed(), which starts a new line.
   // kOverflow: a line longer than kCapacity - 1 characters was discarded.
   Event feed(char byte);
   char* text() { return buf_; }
-  void clear() { len_ = 0; in_comment_ = false; overflow_ = false; }
 
  private:
   char buf_[kCapacity];

@@ -14,6 +14,7 @@ class Output {
   // `text` is NUL-terminated in program memory on AVR (read with pgm_read_byte), plain on host.
   virtual void write_flash(const FlashText* text) = 0;
 
+  void print(const FlashText* text);  // = write_flash(); a plain call is smaller on AVR
   void write(const char* ram_text);
   void write_uint(uint32_t value);
   void write_int(int32_t value);

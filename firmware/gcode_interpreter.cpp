@@ -1,0 +1,200 @@
+// Line protocol (line numbers, checksums, resend requests), M109 waits and auto-reports.
+// Command handlers are in gcode_commands.cpp.
+#include "firmware/gcode_interpreter.h"
+
+#include "firmware/gcode_number.h"
+
+namespace gcode {
+namespace {
+
+constexpr uint16_t kWaitReportMs = 1000;    // temperature line period while M109 waits
+constexpr int32_t kWaitWindowQ8 = 1 * 256;  // M109 is done within 1 °C of the target
+
+// "N12 M105*34" split into line number, checksum verdict and command text.
+struct LineFrame {
+  bool numbered = false;
+  bool number_ok = false;  // N followed by digits, below INT32_MAX
+  bool has_checksum = false;
+  bool checksum_ok = false;
+  int32_t number = 0;
+  char* command = nullptr;
+};
+
+// Reads decimal digits at `s` (at least one) into *value, saturating at 0x7FFFFFFF.
+// Returns the first character after them, or nullptr if there is no digit.
+char* read_digits(char* s, int32_t* value) {
+  if (!is_digit(*s)) return nullptr;
+  uint32_t result = 0;
+  for (; is_digit(*s); ++s) {
+    const uint32_t digit = static_cast<uint32_t>(*s - '0');
+    result = result >= 214748364u ? 0x7FFFFFFFu : result * 10u + digit;  // no wrap, no division
+  }
+  *value = static_cast<int32_t>(result);
+  return s;
+}
+
+// Start of the command text after an optional "N<digits>".
+char* after_line_number(char* line) {
+  if (to_upper(*line) != 'N') return line;
+  ++line;
+  while (is_digit(*line)) ++line;
+  return line;
+}
+
+// Frames the line in place: the '*' is overwritten with the end of the string.
+LineFrame frame_line(char* line) {
+  LineFrame frame;
+  frame.command = after_line_number(line);
+  if (frame.command != line) {
+    frame.numbered = true;
+    // Saturated (absurdly long) numbers never match the expected one.
+    frame.number_ok = read_digits(line + 1, &frame.number) != nullptr && frame.number < 0x7FFFFFFF;
+  }
+  uint8_t checksum = 0;  // XOR of every byte before '*' (the RepRap host convention)
+  for (char* p = line; *p != '\0'; ++p) {
+    if (*p != '*') {
+      checksum ^= static_cast<uint8_t>(*p);
+      continue;
+    }
+    frame.has_checksum = true;
+    *p = '\0';
+    int32_t sent = -1;
+    const char* end = read_digits(p + 1, &sent);
+    frame.checksum_ok = end != nullptr && *end == '\0' && sent == checksum;
+    break;
+  }
+  return frame;
+}
+
+bool is_m(const Command& cmd, uint16_t code) { return cmd.letter == 'M' && cmd.code == code; }
+
+}  // namespace
+
+void Interpreter::feed(char byte) {
+  if (held_) return;  // contract: the main loop stops feeding while accepting() is false
+  const LineAssembler::Event event = line_.feed(byte);
+  if (event == LineAssembler::Event::kOverflow) {
+    request_resend(GCODE_TEXT("Line too long"));
+  } else if (event == LineAssembler::Event::kLine) {
+    Command peek;  // only M112 and M108 may pass an M109 wait
+    const bool urgent = peek.parse(after_line_number(line_.text())) &&
+                        (is_m(peek, 112) || is_m(peek, 108));
+    if (waiting() && !urgent) {
+      held_ = true;  // processed when the wait ends
+      return;
+    }
+    process_line(line_.text());
+  }
+}
+
+void Interpreter::process_line(char* line) {
+  const LineFrame frame = frame_line(line);
+  Command cmd;
+  const bool parsed = cmd.parse(frame.command);
+  // A stop must not be lost to a transmission error; executing it twice on resend is harmless.
+  if (parsed && is_m(cmd, 112)) emergency_stop();
+
+  if (frame.numbered && !frame.number_ok) return request_resend(GCODE_TEXT("Bad line number"));
+  if (frame.numbered && !frame.has_checksum) {
+    return request_resend(GCODE_TEXT("No checksum with line number"));
+  }
+  if (!frame.numbered && frame.has_checksum) {
+    return request_resend(GCODE_TEXT("No line number with checksum"));
+  }
+  if (frame.has_checksum && !frame.checksum_ok) return request_resend(GCODE_TEXT("checksum mismatch"));
+  // M110 sets the number, so it is exempt from the sequence check (as hosts expect).
+  if (frame.numbered && frame.number != last_line_ + 1 && !(parsed && is_m(cmd, 110))) {
+    return request_resend(GCODE_TEXT("Line number is not last line number+1"));
+  }
+  if (frame.numbered) last_line_ = frame.number;
+
+  const char* text = frame.command;
+  while (*text == ' ') ++text;
+  if (*text == '\0') {  // "N7*xx": a numbered empty line
+    out_.print(GCODE_TEXT("ok\n"));
+    return;
+  }
+  if (!parsed) {
+    out_.print(GCODE_TEXT("echo:Unknown command: \""));
+    out_.write(text);
+    out_.print(GCODE_TEXT("\"\nok\n"));
+    return;
+  }
+  execute(cmd);
+}
+
+void Interpreter::execute(const Command& cmd) {
+  const bool was_waiting = waiting();
+  const Handler handler = handler_for(cmd);
+  ok_sent_ = false;
+  if (handler != nullptr) {
+    if (cmd.valid(out_)) (this->*handler)(cmd);
+  } else if (!machine_.handle_command(cmd, out_)) {
+    out_.print(GCODE_TEXT("echo:Unknown command: \""));
+    out_.write(cmd.typed);
+    out_.print(GCODE_TEXT("\"\n"));
+  }
+  if (ok_sent_ || (waiting() && !was_waiting)) return;  // M105; M109: finish_wait() sends it
+  out_.print(GCODE_TEXT("ok\n"));
+}
+
+void Interpreter::emergency_stop() {
+  machine_.emergency_stop();
+  out_.print(GCODE_TEXT("Error:Emergency stop (M112): heater off until M999\n"));
+}
+
+void Interpreter::request_resend(const FlashText* reason) {
+  // Hosts resend everything from the requested line; only numbered lines advance last_line_.
+  out_.print(GCODE_TEXT("Error:"));
+  out_.print(reason);
+  out_.print(GCODE_TEXT(", Last Line: "));
+  out_.write_int(last_line_);
+  out_.print(GCODE_TEXT("\nResend: "));
+  out_.write_int(last_line_ + 1);
+  out_.print(GCODE_TEXT("\nok\n"));
+}
+
+void Interpreter::poll(uint32_t now_ms) {
+  now_ms_ = now_ms;
+  const uint32_t since_report_ms = now_ms - last_report_ms_;  // unsigned: wrap-safe
+  if (waiting()) {
+    const HeaterStatus status = machine_.heater_status();
+    const int32_t error_q8 = status.temp_q8 - status.target_q8;
+    const bool reached = status.target_q8 == 0 || error_q8 >= -kWaitWindowQ8;
+    if (status.fault || (reached && (wait_ == Wait::kHeating || error_q8 <= kWaitWindowQ8))) {
+      finish_wait();
+    } else if (since_report_ms >= kWaitReportMs) {
+      write_temperatures();
+      out_.end_line();
+      last_report_ms_ = now_ms;
+    }
+    return;
+  }
+  if (autoreport_s_ != 0 && since_report_ms >= autoreport_s_ * 1000ul) {
+    write_temperatures();
+    out_.end_line();
+    last_report_ms_ = now_ms;
+  }
+}
+
+void Interpreter::finish_wait() {
+  wait_ = Wait::kNone;
+  out_.print(GCODE_TEXT("ok\n"));
+  if (held_) {
+    held_ = false;
+    process_line(line_.text());
+  }
+}
+
+void Interpreter::write_temperatures() {
+  // "T:210.00 /210.00 @:87": the format OctoPrint and Pronterface parse (@ = power 0-255).
+  const HeaterStatus status = machine_.heater_status();
+  out_.print(GCODE_TEXT("T:"));
+  out_.write_q8(status.temp_q8);
+  out_.print(GCODE_TEXT(" /"));
+  out_.write_q8(status.target_q8);
+  out_.print(GCODE_TEXT(" @:"));
+  out_.write_uint(status.duty_q16 >> 8);
+}
+
+}  // namespace gcode

@@ -1,0 +1,104 @@
+// Number formatting of the G-code replies (no printf in the firmware), checked against exact
+// text and against a double-precision reference.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "host_tests/gcode_fakes.h"
+
+namespace {
+
+using gcode_test::StringOutput;
+
+std::string fixed(int32_t value, uint8_t frac_bits, uint8_t decimals) {
+  StringOutput out;
+  out.write_fixed(value, frac_bits, decimals);
+  return out.text;
+}
+
+std::string q8(int32_t value_q8) {
+  StringOutput out;
+  out.write_q8(value_q8);
+  return out.text;
+}
+
+TEST(GcodeFormat, Integers) {
+  StringOutput out;
+  out.write_uint(0);
+  out.write_char(' ');
+  out.write_uint(4294967295u);
+  out.write_char(' ');
+  out.write_int(-2147483647 - 1);
+  out.write_char(' ');
+  out.write_int(-7);
+  out.write_char(' ');
+  out.write_int(120);
+  EXPECT_EQ(out.text, "0 4294967295 -2147483648 -7 120");
+}
+
+TEST(GcodeFormat, TemperatureTwoDecimals) {
+  EXPECT_EQ(q8(210 * 256), "210.00");
+  EXPECT_EQ(q8(0), "0.00");
+  EXPECT_EQ(q8(210 * 256 + 128), "210.50");
+  EXPECT_EQ(q8(25 * 256 + 64), "25.25");
+  EXPECT_EQ(q8(1), "0.00");       // 0.0039
+  EXPECT_EQ(q8(2), "0.01");       // 0.0078 rounds up
+  EXPECT_EQ(q8(1000 * 256), "1000.00");
+}
+
+TEST(GcodeFormat, RoundsUpIntoTheNextDegree) {
+  // 53759 / 256 = 209.99609 must print 210.00, not 209.100 or 209.00.
+  EXPECT_EQ(q8(53759), "210.00");
+  EXPECT_EQ(q8(53758), "209.99");  // 209.99219
+  EXPECT_EQ(q8(-53759), "-210.00");
+}
+
+TEST(GcodeFormat, NegativeTemperatures) {
+  EXPECT_EQ(q8(-10 * 256), "-10.00");
+  EXPECT_EQ(q8(-256 - 64), "-1.25");
+  EXPECT_EQ(q8(-64), "-0.25");
+  EXPECT_EQ(q8(-1), "0.00");  // -0.0039: no "-0.00"
+  EXPECT_EQ(q8(-2), "-0.01");
+}
+
+TEST(GcodeFormat, Q16Gains) {
+  StringOutput out;
+  out.write_q16(1454899);  // 22.2
+  out.write_char(' ');
+  out.write_q16(70779);    // 1.08
+  out.write_char(' ');
+  out.write_q16(0x7FFFFFFF);
+  EXPECT_EQ(out.text, "22.20 1.08 32768.00");
+}
+
+TEST(GcodeFormat, DecimalsAndFractionBits) {
+  EXPECT_EQ(fixed(275 * 256, 8, 0), "275");
+  EXPECT_EQ(fixed(3 * 65536 + 32768, 16, 0), "4");   // 3.5 rounds half away from zero
+  EXPECT_EQ(fixed(-(3 * 65536 + 32768), 16, 0), "-4");
+  EXPECT_EQ(fixed(65536 / 3, 16, 4), "0.3333");
+  EXPECT_EQ(fixed(1234, 0, 2), "1234.00");
+  EXPECT_EQ(fixed(-2147483647 - 1, 16, 4), "-32768.0000");
+}
+
+// Every Q8 temperature from -50 to 400 °C against printf's correctly rounded output. The only
+// allowed difference: exact ties (x.xx5), which printf rounds to even and we round away from zero.
+TEST(GcodeFormat, MatchesDoubleReferenceForAllTemperatures) {
+  int mismatches = 0;
+  for (int32_t value = -50 * 256; value <= 400 * 256; ++value) {
+    const double exact = value / 256.0;
+    const double hundredths = std::round(std::fabs(exact) * 100.0);  // halves away from zero
+    char expected[32];
+    std::snprintf(expected, sizeof expected, "%s%.0f.%02.0f", (exact < 0 && hundredths != 0) ? "-" : "",
+                  std::floor(hundredths / 100.0), std::fmod(hundredths, 100.0));
+    if (q8(value) != expected) {
+      ++mismatches;
+      ADD_FAILURE() << value << " printed " << q8(value) << ", expected " << expected;
+      if (mismatches > 5) break;
+    }
+  }
+  EXPECT_EQ(mismatches, 0);
+}
+
+}  // namespace

@@ -58,6 +58,7 @@ LineFrame frame_line(char* line) {
     }
     frame.has_checksum = true;
     *p = '\0';
+    for (char* q = p; q != frame.command && q[-1] == ' ';) *--q = '\0';  // "G28 *71" -> "G28"
     int32_t sent = -1;
     const char* end = read_digits(p + 1, &sent);
     frame.checksum_ok = end != nullptr && *end == '\0' && sent == checksum;
@@ -68,18 +69,22 @@ LineFrame frame_line(char* line) {
 
 bool is_m(const Command& cmd, uint16_t code) { return cmd.letter == 'M' && cmd.code == code; }
 
+// Only M112 (stop) and M108 (cancel the wait) are executed while M109 waits.
+bool passes_wait(char* line) {
+  Command cmd;
+  return cmd.parse(after_line_number(line)) && (is_m(cmd, 112) || is_m(cmd, 108));
+}
+
 }  // namespace
 
 void Interpreter::feed(char byte) {
   if (held_) return;  // contract: the main loop stops feeding while accepting() is false
   const LineAssembler::Event event = line_.feed(byte);
   if (event == LineAssembler::Event::kOverflow) {
-    request_resend(GCODE_TEXT("Line too long"));
+    // "Format error" is among the words hosts (OctoPrint) read as "resend follows", not fatal.
+    request_resend(GCODE_TEXT("Format error: line too long"));
   } else if (event == LineAssembler::Event::kLine) {
-    Command peek;  // only M112 and M108 may pass an M109 wait
-    const bool urgent = peek.parse(after_line_number(line_.text())) &&
-                        (is_m(peek, 112) || is_m(peek, 108));
-    if (waiting() && !urgent) {
+    if (waiting() && !passes_wait(line_.text())) {
       held_ = true;  // processed when the wait ends
       return;
     }
@@ -115,9 +120,8 @@ void Interpreter::process_line(char* line) {
     return;
   }
   if (!parsed) {
-    out_.print(GCODE_TEXT("echo:Unknown command: \""));
-    out_.write(text);
-    out_.print(GCODE_TEXT("\"\nok\n"));
+    echo_unknown(text);
+    out_.print(GCODE_TEXT("ok\n"));
     return;
   }
   execute(cmd);
@@ -130,12 +134,16 @@ void Interpreter::execute(const Command& cmd) {
   if (handler != nullptr) {
     if (cmd.valid(out_)) (this->*handler)(cmd);
   } else if (!machine_.handle_command(cmd, out_)) {
-    out_.print(GCODE_TEXT("echo:Unknown command: \""));
-    out_.write(cmd.typed);
-    out_.print(GCODE_TEXT("\"\n"));
+    echo_unknown(cmd.typed);
   }
   if (ok_sent_ || (waiting() && !was_waiting)) return;  // M105; M109: finish_wait() sends it
   out_.print(GCODE_TEXT("ok\n"));
+}
+
+void Interpreter::echo_unknown(const char* typed) {
+  out_.print(GCODE_TEXT("echo:Unknown command: \""));
+  out_.write(typed);
+  out_.print(GCODE_TEXT("\"\n"));
 }
 
 void Interpreter::emergency_stop() {
@@ -145,6 +153,8 @@ void Interpreter::emergency_stop() {
 
 void Interpreter::request_resend(const FlashText* reason) {
   // Hosts resend everything from the requested line; only numbered lines advance last_line_.
+  // Every reason names "line number", "checksum" or "format error": OctoPrint treats such
+  // errors as transmission errors awaiting the Resend instead of firmware faults.
   out_.print(GCODE_TEXT("Error:"));
   out_.print(reason);
   out_.print(GCODE_TEXT(", Last Line: "));

@@ -20,7 +20,8 @@ namespace gcode {
 
 class Interpreter {
  public:
-  Interpreter(Machine& machine, Output& out) : machine_(machine), out_(out) {}
+  // constexpr: a global instance is constant-initialized (no start-up constructor code).
+  constexpr Interpreter(Machine& machine, Output& out) : machine_(machine), out_(out) {}
 
   void feed(char byte);                  // one received byte
   bool accepting() const { return !held_; }  // false: a line is held behind an M109 wait
@@ -36,6 +37,7 @@ class Interpreter {
   void execute(const Command& cmd);
   Handler handler_for(const Command& cmd) const;  // nullptr: not a built-in command
   void emergency_stop();
+  void echo_unknown(const char* typed);  // echo:Unknown command: "<typed>"
   void finish_wait();
   void write_temperatures();
   void request_resend(const FlashText* reason);

@@ -18,7 +18,7 @@ class LineAssembler {
   char* text() { return buf_; }
 
  private:
-  char buf_[kCapacity];
+  char buf_[kCapacity] = {};
   uint8_t len_ = 0;
   bool in_comment_ = false;
   bool overflow_ = false;

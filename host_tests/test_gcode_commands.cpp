@@ -150,6 +150,7 @@ TEST(GcodeCommands, UnknownCommandsEchoAsTyped) {
   EXPECT_EQ(rig.send("hello world\n"), "echo:Unknown command: \"hello world\"\nok\n");
   EXPECT_EQ(rig.send("M104.1 S3\n"), "echo:Unknown command: \"M104.1 S3\"\nok\n");
   EXPECT_EQ(rig.send(gcode_test::numbered(1, "G1 X5")), "echo:Unknown command: \"G1 X5\"\nok\n");
+  EXPECT_EQ(rig.send(gcode_test::numbered(2, "G4  ")), "echo:Unknown command: \"G4\"\nok\n");
   EXPECT_TRUE(rig.machine.calls.empty());
 }
 

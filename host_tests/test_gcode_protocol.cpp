@@ -132,7 +132,7 @@ TEST(GcodeProtocol, OverlongLineAsksForResend) {
   Rig rig;
   rig.send(numbered(1, "M105"));
   const std::string too_long = "M117 " + std::string(120, 'x') + "\n";
-  EXPECT_EQ(rig.send(too_long), "Error:Line too long, Last Line: 1\nResend: 2\nok\n");
+  EXPECT_EQ(rig.send(too_long), "Error:Format error: line too long, Last Line: 1\nResend: 2\nok\n");
   EXPECT_EQ(rig.send(numbered(2, "M105")), "ok T:25.00 /0.00 @:0\n");
 }
 

@@ -45,6 +45,7 @@ TEST(GcodeLine, LongestLineFitsOneMoreOverflows) {
   LineAssembler a;
   const std::string longest(LineAssembler::kCapacity - 1, 'X');
   EXPECT_EQ(lines_of(a, longest + "\n"), (std::vector<std::string>{longest}));
+  EXPECT_EQ(lines_of(a, longest + "Y\n"), (std::vector<std::string>{"<overflow>"}));
   EXPECT_EQ(lines_of(a, longest + "YZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZ"
                                "ZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZZ\nM105\n"),
             (std::vector<std::string>{"<overflow>", "M105"}));  // next line is clean

@@ -1,0 +1,35 @@
+#include "firmware/control_loop.h"
+
+#include "firmware/temperature_sensor.h"
+#include "hal/fan_pwm.h"
+#include "hal/heater_pwm.h"
+#include "hal/step_marker.h"
+#include "hal/watchdog.h"
+
+namespace firmware {
+
+void ControlLoop::run(uint16_t adc_q6) {
+  hal::step_marker::begin();
+  temp_q8_ = sensor::adc_q6_to_temp_q8(adc_q6);
+  has_reading_ = true;
+  Fault fault = guard_.update(adc_q6, temp_q8_);
+  if (fault == Fault::kNone && !guard_.reading_bad()) fault = watch_.update(heater_.target_q8(), temp_q8_);
+  bool newly_latched = false;
+  uint16_t duty_q16;
+  if (fault != Fault::kNone) {
+    newly_latched = heater_.trip(fault);
+    duty_q16 = 0;
+  } else if (guard_.reading_bad()) {
+    duty_q16 = heater_.hold_off();
+  } else {
+    duty_q16 = heater_.step(temp_q8_, hal::fan_pwm::duty());
+  }
+  hal::heater_pwm::set_duty_q16(duty_q16);
+  hal::step_marker::end();
+
+  // The watchdog is kicked here and only here: if control periods stop, the board resets.
+  hal::watchdog::kick();
+  if (newly_latched) out_.error_line(fault_message(fault));  // the watch resets itself: target is 0
+}
+
+}  // namespace firmware

@@ -1,0 +1,36 @@
+// One control period (every 128 ms, when the tick ISR publishes a 128-sample ADC window):
+// convert, check, control, hand the duty to the PWM -- bracketed by the GPIOR0 marker the
+// simulator times. Faults found here are latched in the heater manager and reported.
+#pragma once
+#include <stdint.h>
+
+#include "firmware/gcode_output.h"
+#include "firmware/heater_manager.h"
+#include "firmware/range_guard.h"
+#include "firmware/thermal_watch.h"
+
+namespace firmware {
+
+class ControlLoop {
+ public:
+  ControlLoop(HeaterManager& heater, gcode::Output& out) : heater_(heater), out_(out) {}
+
+  // One period from the window's adc_q6 (mean ADC code x 64).
+  void run(uint16_t adc_q6);
+
+  int32_t temp_q8() const { return temp_q8_; }  // latest conversion, degC x 256
+  bool has_reading() const { return has_reading_; }
+  // The cause of a MINTEMP/MAXTEMP fault is still present (M999 must refuse).
+  bool reading_bad() const { return guard_.reading_bad(); }
+  Fault reading_fault() const { return guard_.last(); }
+
+ private:
+  HeaterManager& heater_;
+  gcode::Output& out_;
+  RangeGuard guard_;
+  ThermalWatch watch_;
+  int32_t temp_q8_ = 0;
+  bool has_reading_ = false;
+};
+
+}  // namespace firmware

@@ -1,0 +1,52 @@
+// The firmware's gcode::Machine: what G-code commands do to this board -- the heater manager,
+// the PID, the fan, faults and settings. All validation of command syntax and ranges happens
+// in the G-code layer; this class refuses only what depends on machine state.
+#pragma once
+#include <stdint.h>
+
+#include "control/pid.h"
+#include "firmware/control_loop.h"
+#include "firmware/gcode_machine.h"
+#include "firmware/heater_manager.h"
+#include "firmware/settings.h"
+
+namespace firmware {
+
+// Highest target M104/M109 accept: 275 degC (10 degC under MAXTEMP, see range_guard.h).
+constexpr int32_t kMaxTargetQ8 = 275L * 256;
+constexpr uint16_t kControlPeriodMs = 128;  // brief: 128 ticks of 1 ms
+
+class HotendMachine final : public gcode::Machine {
+ public:
+  HotendMachine(HeaterManager& heater, ControlLoop& loop, control::Pid& pid, gcode::Output& out)
+      : heater_(heater), loop_(loop), pid_(pid), out_(out) {}
+
+  // Start-up: settings from EEPROM, or the defaults with a message when it holds none.
+  void load_settings_at_boot();
+
+  gcode::HeaterStatus heater_status() override;
+  int32_t max_target_q8() override { return kMaxTargetQ8; }
+  const gcode::FlashText* set_target_q8(int32_t target_q8) override;
+  gcode::PidGainsQ16 pid_gains() override;
+  const gcode::FlashText* set_pid_gains(const gcode::PidGainsQ16& gains) override;
+  void set_fan_duty(uint8_t duty) override;
+  void emergency_stop() override;
+  const gcode::FlashText* clear_fault() override;
+  const gcode::FlashText* save_settings() override;
+  const gcode::FlashText* load_settings() override;
+  void reset_settings() override;
+  const gcode::FlashText* firmware_version() override;
+  const gcode::FlashText* machine_type() override;
+  void hang_for_watchdog() override;
+
+ private:
+  void apply(const Settings& settings);
+
+  HeaterManager& heater_;
+  ControlLoop& loop_;
+  control::Pid& pid_;
+  gcode::Output& out_;
+  Settings settings_{};  // what M500 saves: the settings in force
+};
+
+}  // namespace firmware

@@ -1,0 +1,63 @@
+// Start-up and the main loop. The loop sleeps until an interrupt; then it runs the control
+// step when the tick ISR has published an ADC window (every 128 ms), feeds received bytes to
+// the G-code layer and lets it drive M109 waits and M155 reports.
+#include <stdint.h>
+
+#include "control/pid.h"
+#include "firmware/banner.h"
+#include "firmware/control_loop.h"
+#include "firmware/gcode_interpreter.h"
+#include "firmware/heater_manager.h"
+#include "firmware/hotend_machine.h"
+#include "firmware/serial_output.h"
+#include "hal/adc.h"
+#include "hal/board.h"
+#include "hal/critical_section.h"
+#include "hal/gpio.h"
+#include "hal/sleep.h"
+#include "hal/tick.h"
+#include "hal/uart.h"
+#include "hal/watchdog.h"
+
+namespace {
+
+// Static objects, wired once: no heap. Constructors only store references.
+firmware::SerialOutput g_out;
+control::Pid g_pid;
+firmware::HeaterManager g_heater(g_pid);
+firmware::ControlLoop g_loop(g_heater, g_out);
+firmware::HotendMachine g_machine(g_heater, g_loop, g_pid, g_out);
+gcode::Interpreter g_gcode(g_machine, g_out);
+
+bool has_work() {
+  return hal::adc::window_ready() || (g_gcode.accepting() && hal::uart::rx_available());
+}
+
+}  // namespace
+
+int main() {
+  // The heater outputs are already low: .init3 (hal/startup.cpp) ran before this.
+  hal::gpio::drive_low(board::kPartFan);
+  hal::sleep::init();
+  hal::uart::init();
+  hal::adc::init(board::kHotendAdcChannel);
+  hal::tick::init();
+  hal::enable_interrupts();  // the banner below may be longer than the TX ring
+
+  firmware::print_banner(g_out);
+  g_machine.load_settings_at_boot();
+  // From here on the control loop must run every 128 ms, or the board resets.
+  hal::watchdog::enable();
+
+  for (;;) {
+    hal::sleep::idle_unless(has_work);
+    uint16_t adc_q6;
+    if (hal::adc::take_window(adc_q6)) g_loop.run(adc_q6);
+    uint8_t byte;
+    // Stop feeding when a window is ready, so a burst of commands cannot delay the control step.
+    while (!hal::adc::window_ready() && g_gcode.accepting() && hal::uart::read(byte)) {
+      g_gcode.feed(static_cast<char>(byte));
+    }
+    g_gcode.poll(hal::tick::millis());
+  }
+}

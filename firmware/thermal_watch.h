@@ -1,0 +1,33 @@
+// Heating-failure / thermal-runaway check (a basic one; the protection issue will extend it):
+// whenever the hotend is more than kBandQ8 below a non-zero target, it must rise by at least
+// kMinRiseQ8 in every kWindowPeriods control periods. Otherwise the heater, the heater
+// cartridge's seat in the block or the thermistor's is suspect. Marlin uses the same idea
+// (WATCH_TEMP_PERIOD / INCREASE, THERMAL_PROTECTION_*) with 20 s / 2 degC for heating; this
+// uses 60 s because the seed plants have dead times up to ~21 s with a 20+ s lag after it.
+#pragma once
+#include <stdint.h>
+
+#include "firmware/fault.h"
+
+namespace firmware {
+
+class ThermalWatch {
+ public:
+  static constexpr int32_t kBandQ8 = 10L * 256;      // "far below target": 10 degC
+  static constexpr int32_t kMinRiseQ8 = 2L * 256;    // required rise per window: 2 degC
+  static constexpr uint16_t kWindowPeriods = 469;    // 469 x 128 ms = 60.0 s
+  static constexpr int32_t kReachedQ8 = 2L * 256;    // within 2 degC counts as "target reached"
+
+  // Call once per control period with a plausible reading. kHeatingFailed when the target
+  // has not yet been reached since it was set, kRunaway when it had been; else kNone.
+  Fault update(int32_t target_q8, int32_t temp_q8);
+  void reset();  // new target / heater off / fault cleared: start over
+
+ private:
+  int32_t window_start_q8_ = 0;  // temperature when the running window began
+  uint16_t periods_ = 0;         // periods in the running window, 0 = no window running
+  int32_t target_q8_ = 0;        // target the state belongs to
+  bool reached_ = false;         // target reached since it was set
+};
+
+}  // namespace firmware

@@ -1,0 +1,123 @@
+// One simulated board: RAII around a simavr avr_t running a firmware ELF, with the couplings the
+// harness needs (UART bytes, thermistor ADC injection, heater/fan pin meters, the GPIOR0
+// control-step marker, periodic harness work that survives watchdog resets). It hides every
+// simavr 1.6 workaround listed in shared/notes/simavr-1.6.md. One instance per thread.
+#pragma once
+
+#include <cstdarg>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sim/board_spec.h"
+#include "sim/pin_meter.h"
+
+struct avr_t;
+struct avr_irq_t;
+
+namespace sim {
+
+// Program and data memory the image uses, as avr-size counts them (text+data, data+bss).
+struct ImageSize {
+  uint32_t flash_bytes = 0;
+  uint32_t ram_bytes = 0;
+};
+
+// CPU cycles between the firmware's GPIOR0 := 1 and GPIOR0 := 0 writes (one control step,
+// including any tick interrupt that preempts it, as on silicon).
+struct StepCycleStats {
+  uint64_t count = 0;
+  uint64_t max_cycles = 0;
+  uint64_t total_cycles = 0;
+  double mean_cycles() const { return count ? double(total_cycles) / double(count) : 0.0; }
+};
+
+enum class CpuState { kRunning, kStopped, kCrashed };
+
+class AvrBoard {
+ public:
+  // Loads the ELF (throws std::runtime_error with the reason if it cannot).
+  AvrBoard(const BoardSpec& spec, const std::string& elf_path);
+  ~AvrBoard();
+  AvrBoard(const AvrBoard&) = delete;
+  AvrBoard& operator=(const AvrBoard&) = delete;
+
+  // Runs the firmware until `end_cycle` (or until it stops/crashes).
+  CpuState run_until(uint64_t end_cycle);
+  uint64_t cycle() const;
+  double time_s() const;
+  uint64_t cycles_from_s(double seconds) const;
+  double frequency_hz() const;
+
+  // UART0: every byte the firmware transmits; bytes in are accepted only while the UART
+  // signals XON (simavr drops bytes raised at other times).
+  void on_uart_byte(std::function<void(uint8_t)> handler) { uart_handler_ = std::move(handler); }
+  bool uart_accepting() const { return uart_xon_; }
+  bool uart_send(uint8_t byte);
+
+  // The voltage (mV, integer as simavr takes it) of an analog input at the start of each of its
+  // conversions. `channel` is the board's ADC number (ADC13 on RAMPS is 13).
+  void set_adc_source(uint8_t channel, std::function<uint16_t()> millivolts);
+  uint32_t adc_ref_mv() const;
+
+  // Duty meters on output pins (the heater and fan are watched from construction).
+  PinMeter& heater() { return *heater_; }
+  PinMeter& fan() { return *fan_; }
+
+  const StepCycleStats& step_cycles() const { return step_cycles_; }
+
+  // Harness work every `period_us` of simulated time; re-armed after every reset.
+  void every(uint32_t period_us, std::function<void()> work);
+  // Called right after every CPU reset (watchdog), before the firmware runs again.
+  void on_reset(std::function<void()> hook) { reset_hooks_.push_back(std::move(hook)); }
+  int reset_count() const { return reset_count_; }
+
+  ImageSize image_size() const { return image_size_; }
+  const std::string& mcu() const { return mcu_; }
+  // simavr's own warnings and errors for this board (e.g. crash reasons).
+  const std::vector<std::string>& simavr_messages() const { return messages_; }
+
+ private:
+  struct Periodic;
+  struct AdcFeed;
+
+  void load(const BoardSpec& spec, const std::string& elf_path);
+  void attach_uart();
+  void attach_adc();
+  void watch_pin(boards::Pin pin, PinMeter* meter);
+  void attach_step_marker();
+  void apply_adc_remap();
+  void after_reset();
+
+  void record_message(const std::string& text);
+  static AvrBoard* from(avr_t* avr);
+  static void reset_trampoline(avr_t* avr);
+  static void log_trampoline(avr_t* avr, int level, const char* format, va_list args);
+
+  avr_t* avr_ = nullptr;
+  void (*core_reset_)(avr_t*) = nullptr;
+  std::string mcu_;
+  ImageSize image_size_;
+  std::unique_ptr<PinMeter> heater_ = std::make_unique<PinMeter>();
+  std::unique_ptr<PinMeter> fan_ = std::make_unique<PinMeter>();
+  struct PinWatch;
+  std::vector<std::unique_ptr<PinWatch>> pin_watches_;
+  std::vector<std::unique_ptr<AdcFeed>> adc_feeds_;
+  std::vector<std::unique_ptr<Periodic>> periodics_;
+  std::vector<std::function<void()>> reset_hooks_;
+  std::function<void(uint8_t)> uart_handler_;
+  avr_irq_t* uart_irqs_ = nullptr;
+  avr_irq_t* adc_irqs_ = nullptr;
+  bool uart_xon_ = false;
+  bool remap_high_adc_ = false;
+  int reset_count_ = 0;
+  uint64_t step_start_cycle_ = 0;
+  bool step_open_ = false;
+  StepCycleStats step_cycles_;
+  std::vector<std::string> messages_;
+  uint64_t messages_dropped_ = 0;
+};
+
+}  // namespace sim

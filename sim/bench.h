@@ -1,0 +1,24 @@
+// `hotend-sim bench`: every board × plant with the same settings, run in parallel threads (one
+// avr_t per thread), summarised in one table.
+#pragma once
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "sim/sim_run.h"
+
+namespace sim {
+
+struct BenchCase {
+  RunConfig config;
+};
+
+// Runs the cases on `jobs` threads (0: one per hardware thread); results in case order.
+// A case that cannot start yields a result whose `problems` says why.
+std::vector<RunResult> run_bench(const std::vector<BenchCase>& cases, unsigned jobs);
+
+// One row per result; Markdown (for README) or aligned plain text.
+void print_bench_table(std::ostream& out, const std::vector<RunResult>& results, bool markdown);
+
+}  // namespace sim

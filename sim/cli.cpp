@@ -1,0 +1,279 @@
+#include "sim/cli.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sim/bench.h"
+#include "sim/default_gains.h"
+#include "sim/report.h"
+#include "sim/sim_run.h"
+
+namespace sim {
+namespace {
+
+constexpr double kFaultRunTailS = 5.0;  // fault runs end this long after the fault by default
+
+const char* const kUsage = R"(usage:
+  hotend-sim [run] [--board sanguinololu|ramps14] [--plant NAME] [--target C] [--seconds S]
+             [--csv FILE] [--noise-lsb SIGMA] [--seed N] [--gains P,I,D] [--gcode "CMD;CMD@T"]
+             [--elf FILE] [--fault open@T|short@T|hang@T] [--check] [--max-overshoot C]
+             [--max-steady-error C] [--max-report-error C] [--quiet]
+  hotend-sim bench [--markdown] [--boards a,b] [--plants x,y] [--jobs N] [--noise-lsb SIGMA]
+             [--seed N] [--gcode "CMD@T"] [--csv-dir DIR] [--elf-dir DIR]
+  hotend-sim list
+
+run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the untimed --gcode
+  commands, M155 S1 and M104 S<target>; the heating start t0 is the firmware's `ok` to M104 and
+  --seconds counts from there. Commands with @T are sent T s after t0; the first one splits the
+  run: quality metrics before it, disturbance metrics (max |error|, recovery) after it.
+  Defaults: ramps14, hotend40w, the plant's own target/duration, noise σ 0.5 LSB, gains from
+  the plant's FOPDT approximation (see `list`), ELF from this build's firmware directory.
+  --fault: thermistor open/short or a D0 hang T s after t0; the run ends 5 s after it.
+  --check: exit 1 (listing what failed) unless the run meets the HIL limits.
+bench: every board × plant (or the given ones) in parallel; prints one table.
+)";
+
+std::vector<std::string> split(const std::string& text, char separator) {
+  std::vector<std::string> parts;
+  std::stringstream in(text);
+  for (std::string part; std::getline(in, part, separator);) parts.push_back(part);
+  return parts;
+}
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t");
+  const auto e = s.find_last_not_of(" \t");
+  return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
+}
+
+double parse_number(const std::string& text, const std::string& what) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0') throw std::invalid_argument(what + ": not a number: \"" + text + "\"");
+  return v;
+}
+
+MarlinGains parse_gains(const std::string& text) {
+  const std::vector<std::string> parts = split(text, ',');
+  if (parts.size() != 3) throw std::invalid_argument("--gains wants P,I,D");
+  return MarlinGains{parse_number(parts[0], "--gains P"), parse_number(parts[1], "--gains I"),
+                     parse_number(parts[2], "--gains D")};
+}
+
+// "M301 P1 I2 D3;M106 S255@120" → {M301..., untimed}, {M106 S255, at 120 s}.
+std::vector<TimedCommand> parse_gcode(const std::string& text) {
+  std::vector<TimedCommand> commands;
+  for (const std::string& item : split(text, ';')) {
+    std::string line = trim(item);
+    if (line.empty()) continue;
+    TimedCommand c;
+    const auto at = line.rfind('@');
+    if (at != std::string::npos) {
+      c.at_s = parse_number(trim(line.substr(at + 1)), "--gcode time");
+      line = trim(line.substr(0, at));
+    }
+    c.line = line;
+    commands.push_back(c);
+  }
+  return commands;
+}
+
+void parse_fault(const std::string& text, RunConfig& config) {
+  const auto at = text.find('@');
+  if (at == std::string::npos) throw std::invalid_argument("--fault wants KIND@SECONDS");
+  const std::string kind = text.substr(0, at);
+  if (kind == "open") config.fault = FaultKind::kOpen;
+  else if (kind == "short") config.fault = FaultKind::kShort;
+  else if (kind == "hang") config.fault = FaultKind::kHang;
+  else throw std::invalid_argument("--fault: unknown kind \"" + kind + "\" (open, short, hang)");
+  config.fault_at_s = parse_number(text.substr(at + 1), "--fault time");
+}
+
+// --name value / --name=value pairs and bare flags.
+struct Options {
+  std::map<std::string, std::string> values;
+  std::vector<std::string> flags;
+  bool has(const std::string& name) const {
+    return values.count(name) || std::find(flags.begin(), flags.end(), name) != flags.end();
+  }
+  std::string get(const std::string& name, const std::string& fallback = "") const {
+    auto it = values.find(name);
+    return it == values.end() ? fallback : it->second;
+  }
+};
+
+Options parse_options(const std::vector<std::string>& args, const std::vector<std::string>& flag_names) {
+  Options o;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    std::string name = args[i];
+    if (name.rfind("--", 0) != 0) throw std::invalid_argument("unexpected argument \"" + name + "\"");
+    name = name.substr(2);
+    const auto eq = name.find('=');
+    if (eq != std::string::npos) {
+      o.values[name.substr(0, eq)] = name.substr(eq + 1);
+    } else if (std::find(flag_names.begin(), flag_names.end(), name) != flag_names.end()) {
+      o.flags.push_back(name);
+    } else {
+      if (i + 1 >= args.size()) throw std::invalid_argument("--" + name + " needs a value");
+      o.values[name] = args[++i];
+    }
+  }
+  return o;
+}
+
+void reject_unknown(const Options& o, const std::vector<std::string>& known) {
+  for (const auto& [name, value] : o.values)
+    if (std::find(known.begin(), known.end(), name) == known.end())
+      throw std::invalid_argument("unknown option --" + name);
+}
+
+std::string default_elf_path(const std::string& dir, const BoardSpec& board) {
+  return dir + "/firmware-" + board.id + ".elf";
+}
+
+const BoardSpec& board_named(const std::string& id) {
+  const BoardSpec* b = find_board(id);
+  if (!b) throw std::invalid_argument("unknown board \"" + id + "\" (sanguinololu, ramps14)");
+  return *b;
+}
+
+const PlantSpec& plant_named(const std::string& name) {
+  const PlantSpec* p = find_plant(name);
+  if (!p) throw std::invalid_argument("unknown plant \"" + name + "\" (see `hotend-sim list`)");
+  return *p;
+}
+
+// Settings shared by `run` and `bench`: noise, seed, gains, G-code.
+void apply_common(const Options& o, RunConfig& c) {
+  c.noise_lsb = parse_number(o.get("noise-lsb", "0.5"), "--noise-lsb");
+  c.seed = static_cast<uint64_t>(parse_number(o.get("seed", "1"), "--seed"));
+  if (o.has("gains")) {
+    c.gains = parse_gains(o.get("gains"));
+    c.gains_source = "--gains";
+  } else {
+    const GainChoice choice = default_gains(c.plant);
+    c.gains = choice.gains;
+    c.gains_source = choice.description;
+  }
+  c.gcode = parse_gcode(o.get("gcode"));
+}
+
+int run_command(const std::vector<std::string>& args) {
+  const Options o = parse_options(args, {"check", "quiet"});
+  reject_unknown(o, {"board", "plant", "target", "seconds", "csv", "noise-lsb", "seed", "gains", "gcode",
+                     "elf", "fault", "max-overshoot", "max-steady-error", "max-report-error"});
+  RunConfig c;
+  c.board = board_named(o.get("board", "ramps14"));
+  c.plant = plant_named(o.get("plant", "hotend40w"));
+  c.target_c = parse_number(o.get("target", std::to_string(c.plant.default_target_c)), "--target");
+  if (o.has("fault")) parse_fault(o.get("fault"), c);
+  const double default_seconds =
+      c.fault == FaultKind::kNone ? c.plant.default_seconds : c.fault_at_s + kFaultRunTailS;
+  c.seconds = parse_number(o.get("seconds", std::to_string(default_seconds)), "--seconds");
+  c.csv_path = o.get("csv");
+  c.elf_path = o.get("elf", default_elf_path(HOTEND_SIM_FIRMWARE_DIR, c.board));
+  apply_common(o, c);
+
+  CheckLimits limits;
+  limits.max_overshoot_c = parse_number(o.get("max-overshoot", "5"), "--max-overshoot");
+  limits.max_steady_error_c = parse_number(o.get("max-steady-error", "0.5"), "--max-steady-error");
+  limits.max_report_error_c = parse_number(o.get("max-report-error", "1"), "--max-report-error");
+
+  const RunResult result = run_simulation(c);
+  if (!o.has("quiet")) print_report(std::cout, result);
+  if (!o.has("check")) return 0;
+  const std::vector<std::string> failed = failed_checks(result, limits);
+  for (const std::string& f : failed) std::cout << "CHECK FAILED: " << f << "\n";
+  if (failed.empty()) std::cout << "CHECK PASSED\n";
+  return failed.empty() ? 0 : 1;
+}
+
+int bench_command(const std::vector<std::string>& args) {
+  const Options o = parse_options(args, {"markdown"});
+  reject_unknown(o, {"boards", "plants", "jobs", "noise-lsb", "seed", "gcode", "csv-dir", "elf-dir"});
+  std::vector<std::string> boards, plants;
+  for (const BoardSpec& b : all_boards()) boards.push_back(b.id);
+  for (const PlantSpec& p : plant_bank()) plants.push_back(p.name);
+  if (o.has("boards")) boards = split(o.get("boards"), ',');
+  if (o.has("plants")) plants = split(o.get("plants"), ',');
+  const std::string elf_dir = o.get("elf-dir", HOTEND_SIM_FIRMWARE_DIR);
+
+  std::vector<BenchCase> cases;
+  for (const std::string& board : boards)
+    for (const std::string& plant : plants) {
+      RunConfig c;
+      c.board = board_named(board);
+      c.plant = plant_named(plant);
+      c.target_c = c.plant.default_target_c;
+      c.seconds = c.plant.default_seconds;
+      c.elf_path = default_elf_path(elf_dir, c.board);
+      apply_common(o, c);
+      if (o.has("csv-dir")) c.csv_path = o.get("csv-dir") + "/" + board + "-" + plant + ".csv";
+      cases.push_back(BenchCase{c});
+    }
+  const unsigned jobs = static_cast<unsigned>(parse_number(o.get("jobs", "0"), "--jobs"));
+  const std::vector<RunResult> results = run_bench(cases, jobs);
+  print_bench_table(std::cout, results, o.has("markdown"));
+  for (const RunResult& r : results)
+    for (const std::string& p : r.problems)
+      std::cout << r.config.board.id << "/" << r.config.plant.name << ": " << p << "\n";
+  return 0;
+}
+
+int list_command() {
+  std::cout << "boards:\n";
+  for (const BoardSpec& b : all_boards())
+    std::cout << "  " << b.id << "  " << b.name << " (" << b.mcu << "), heater P" << b.hotend_heater.port
+              << int(b.hotend_heater.bit) << ", fan P" << b.part_fan.port << int(b.part_fan.bit) << ", thermistor ADC"
+              << int(b.hotend_adc_channel) << "\n";
+  std::cout << "plants:\n";
+  for (const PlantSpec& p : plant_bank()) {
+    const GainChoice g = default_gains(p);
+    std::cout << "  " << p.name << "  " << p.description << "\n"
+              << "      100 % settles " << format_fixed(p.model.dc_gain_k(), 1) << " K above ambient; default "
+              << format_fixed(p.default_target_c, 0) << " °C for " << format_fixed(p.default_seconds, 0)
+              << " s; default gains P " << format_fixed(g.gains.kp, 3) << " I " << format_fixed(g.gains.ki, 4)
+              << " D " << format_fixed(g.gains.kd, 2) << " (" << g.description << ")\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+int cli_main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  for (const std::string& a : args)
+    if (a == "--help" || a == "-h") {
+      std::cout << kUsage;
+      return 0;
+    }
+  std::string command = "run";
+  if (!args.empty() && args[0].rfind("--", 0) != 0) {
+    command = args[0];
+    args.erase(args.begin());
+  }
+  try {
+    if (command == "run") return run_command(args);
+    if (command == "bench") return bench_command(args);
+    if (command == "list") return list_command();
+    if (command == "help") {
+      std::cout << kUsage;
+      return 0;
+    }
+    throw std::invalid_argument("unknown command \"" + command + "\"");
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "hotend-sim: " << e.what() << "\n" << kUsage;
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "hotend-sim: " << e.what() << "\n";
+    return 2;
+  }
+}
+
+}  // namespace sim

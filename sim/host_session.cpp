@@ -1,0 +1,94 @@
+#include "sim/host_session.h"
+
+#include <cstdio>
+#include <cstdlib>
+
+namespace sim {
+namespace {
+
+bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
+
+// Position of a `key` that starts a token (line start or after a space), or npos.
+std::size_t find_token(const std::string& line, const std::string& key) {
+  for (std::size_t pos = line.find(key); pos != std::string::npos; pos = line.find(key, pos + 1))
+    if (pos == 0 || line[pos - 1] == ' ') return pos;
+  return std::string::npos;
+}
+
+}  // namespace
+
+std::optional<TempReport> parse_temp_report(const std::string& line) {
+  const std::size_t t = find_token(line, "T:");
+  if (t == std::string::npos) return std::nullopt;
+  const char* begin = line.c_str() + t + 2;
+  char* end = nullptr;
+  TempReport r;
+  r.temp_c = std::strtod(begin, &end);
+  if (end == begin) return std::nullopt;
+  const std::size_t slash = line.find('/', t);
+  if (slash != std::string::npos) r.target_c = std::strtod(line.c_str() + slash + 1, nullptr);
+  const std::size_t at = find_token(line, "@:");
+  if (at != std::string::npos) r.power = std::atoi(line.c_str() + at + 2);
+  return r;
+}
+
+HostSession::HostSession(AvrBoard& board) : board_(board) {
+  board_.on_uart_byte([this](uint8_t b) { on_byte(b); });
+  // A reset loses the command in flight (a real host would time out on it too) and the
+  // half-received line.
+  board_.on_reset([this] {
+    in_flight_.reset();
+    partial_.clear();
+  });
+}
+
+void HostSession::send(std::string line, std::function<void(double)> on_ok) {
+  queue_.push_back(Command{std::move(line) + "\n", std::move(on_ok)});
+}
+
+void HostSession::poll() {
+  if (boot_count_ == 0) return;  // the firmware has not said `start` yet
+  if (!in_flight_) {
+    if (queue_.empty()) return;
+    in_flight_ = std::move(queue_.front());
+    queue_.pop_front();
+    bytes_sent_ = 0;
+    in_flight_since_s_ = board_.time_s();
+  }
+  const std::string& text = in_flight_->text;
+  while (bytes_sent_ < text.size() && board_.uart_accepting())
+    if (board_.uart_send(static_cast<uint8_t>(text[bytes_sent_]))) ++bytes_sent_;
+  if (board_.time_s() - in_flight_since_s_ > kOkTimeoutS) {
+    const std::string cmd = text.substr(0, text.size() - 1);
+    problems_.push_back("no ok for \"" + cmd + "\" within " + std::to_string(int(kOkTimeoutS)) + " s");
+    in_flight_.reset();
+  }
+}
+
+void HostSession::on_byte(uint8_t byte) {
+  if (byte == '\r') return;
+  if (byte != '\n') {
+    partial_.push_back(static_cast<char>(byte));
+    return;
+  }
+  on_complete_line(std::move(partial_));
+  partial_.clear();
+}
+
+void HostSession::on_complete_line(std::string text) {
+  const double now = board_.time_s();
+  if (text == "start") ++boot_count_;
+  if (auto report = parse_temp_report(text)) {
+    report->t_s = now;
+    reports_.push_back(*report);
+  }
+  if (starts_with(text, "ok") && in_flight_ && bytes_sent_ == in_flight_->text.size()) {
+    auto on_ok = std::move(in_flight_->on_ok);
+    in_flight_.reset();
+    if (on_ok) on_ok(now);
+  }
+  lines_.push_back(ReplyLine{now, std::move(text)});
+  if (line_handler_) line_handler_(lines_.back());
+}
+
+}  // namespace sim

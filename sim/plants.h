@@ -1,0 +1,82 @@
+// The plant bank: hotend thermal models from the seed papers plus one physical model, all in
+// continuous time (seconds), output = temperature rise above ambient (K), input = heater duty
+// 0–1 (and part-fan duty 0–1 where the model has a fan path). Plant steps one instance exactly
+// (zero-order hold on the measured duty, dead time as a delay line).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sim/linalg.h"
+
+namespace sim {
+
+// x' = (A + fan·A_fan)·x + B·u(t − delay),  rise = C·x.
+struct LtiModel {
+  Matrix a;
+  Matrix a_fan;  // same shape as a; all zero when the fan is not modelled
+  Matrix b;      // n×1, K/s per unit duty
+  Matrix c;      // 1×n
+  double delay_s = 0.0;
+
+  std::size_t order() const { return a.rows(); }
+  // Steady-state rise (K) per unit heater duty at a constant fan duty: −C·(A + fan·A_fan)⁻¹·B.
+  double dc_gain_k(double fan_duty = 0.0) const;
+};
+
+struct PlantSpec {
+  std::string name;
+  std::string description;
+  LtiModel model;
+  bool models_fan = false;
+  double ambient_c = 25.0;
+  // What the HIL tests and the benchmark run on this plant by default: the seed000 models are
+  // nearly integrating (slow poles of 10–20 min), so they get the seed's own 150 °C set point.
+  double default_target_c = 210.0;
+  double default_seconds = 600.0;
+};
+
+// All plants, in the order the benchmark prints them.
+const std::vector<PlantSpec>& plant_bank();
+const PlantSpec* find_plant(const std::string& name);
+
+struct PlantInput {
+  double heater_duty = 0.0;  // 0..1, average over the step
+  double fan_duty = 0.0;     // 0..1, average over the step
+};
+
+class Plant {
+ public:
+  Plant(const PlantSpec& spec, double dt_s);
+
+  // Advances the model by dt with the given average inputs.
+  void step(const PlantInput& in);
+  // The "true" temperature: the sensor node / model output, °C.
+  double temperature_c() const { return spec_.ambient_c + rise_k(); }
+  double time_s() const { return double(steps_) * dt_s_; }
+  double dt_s() const { return dt_s_; }
+  const PlantSpec& spec() const { return spec_; }
+
+ private:
+  double rise_k() const;
+  const Discretised& zoh_for_fan_level(int level);
+
+  static constexpr int kFanLevels = 256;         // airflow quantised to 1/256 for the cache
+  static constexpr double kFanSpinUpS = 0.5;     // airflow lag behind the modulated fan pin
+
+  PlantSpec spec_;
+  double dt_s_;
+  std::vector<double> x_, x_next_;  // state, and scratch for the update (no allocation per step)
+  std::vector<double> delay_line_;  // heater duty per step, oldest at delay_index_
+  std::size_t delay_index_ = 0;
+  double airflow_ = 0.0;            // filtered fan duty 0..1
+  std::vector<std::unique_ptr<Discretised>> zoh_by_fan_level_;
+  long long steps_ = 0;
+};
+
+// Output rise (K) after each of `steps` steps of dt at 100 % heater, fan off, from ambient:
+// the unit step response the physical bound and the FOPDT approximation are computed from.
+std::vector<double> full_power_step_response_k(const PlantSpec& spec, double dt_s, std::size_t steps);
+
+}  // namespace sim

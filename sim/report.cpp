@@ -1,0 +1,136 @@
+#include "sim/report.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace sim {
+namespace {
+
+const char* fault_name(FaultKind kind) {
+  switch (kind) {
+    case FaultKind::kOpen: return "thermistor open";
+    case FaultKind::kShort: return "thermistor shorted";
+    case FaultKind::kHang: return "firmware hang (D0)";
+    case FaultKind::kNone: break;
+  }
+  return "none";
+}
+
+void print_fault(std::ostream& out, const RunResult& r) {
+  const FaultOutcome& f = *r.fault;
+  out << "fault              " << fault_name(r.config.fault) << " at " << format_fixed(r.config.fault_at_s, 1)
+      << " s after heating start\n"
+      << "  heater last on   " << format_optional(f.heater_last_on_s, 3) << " s after the fault"
+      << (f.heater_on_at_end ? " (STILL ON at the end)" : "") << "\n";
+  if (!f.expected_error.empty())
+    out << "  Error:" << f.expected_error << "  " << (f.error_line_s ? "printed after " + format_fixed(*f.error_line_s, 3) + " s" : "NOT printed")
+        << "\n";
+  if (r.config.fault == FaultKind::kHang)
+    out << "  watchdog reset   " << (f.reset_s ? format_fixed(*f.reset_s, 3) + " s after D0" : "NONE") << "\n"
+        << "  start again      " << (f.restarted ? "yes" : "NO") << "\n"
+        << "  heater after it  " << (f.heater_on_after_reset ? "ON at some point" : "off") << "\n";
+}
+
+}  // namespace
+
+std::string format_fixed(double value, int decimals) {
+  if (std::isnan(value)) return "-";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*f", decimals, value);
+  return text;
+}
+
+std::string format_optional(const std::optional<double>& value, int decimals) {
+  return value ? format_fixed(*value, decimals) : "-";
+}
+
+void print_report(std::ostream& out, const RunResult& r) {
+  const RunConfig& c = r.config;
+  const Metrics& m = r.metrics;
+  out << "board              " << c.board.name << " (" << c.board.id << ", " << c.board.mcu << ")\n"
+      << "firmware           " << c.elf_path << "\n"
+      << "image              flash " << r.image.flash_bytes << " B, RAM " << r.image.ram_bytes << " B\n"
+      << "plant              " << c.plant.name << ": " << c.plant.description << "\n"
+      << "target             " << format_fixed(c.target_c, 1) << " °C for " << format_fixed(c.seconds, 0)
+      << " s, ADC noise σ " << format_fixed(c.noise_lsb, 2) << " LSB\n"
+      << "gains              " << (c.gains ? "P " + format_fixed(c.gains->kp, 3) + " I " + format_fixed(c.gains->ki, 4) +
+                                                  " D " + format_fixed(c.gains->kd, 2)
+                                            : std::string("firmware default"))
+      << (c.gains_source.empty() ? "" : "  (" + c.gains_source + ")") << "\n";
+  if (r.heating_start_s) {
+    out << "heating start      " << format_fixed(*r.heating_start_s, 3) << " s after power-on\n"
+        << "time to reach      " << format_optional(m.time_to_reach_s, 1) << " s (first inside ±1 °C)\n"
+        << "overshoot          " << format_fixed(m.overshoot_c, 2) << " °C\n"
+        << "settling (±1 °C)   " << format_optional(m.settling_s, 1) << " s\n";
+    if (r.bound.reachable)
+      out << "physical bound     " << format_fixed(r.bound.settling_s, 1) << " s (100 % until "
+          << format_fixed(r.bound.switch_s, 1) << " s, then " << format_fixed(100.0 * r.bound.steady_duty, 1)
+          << " %); ratio " << (m.settling_s ? format_fixed(*m.settling_s / r.bound.settling_s, 2) : "-") << "\n";
+    else
+      out << "physical bound     target unreachable at 100 % heater power\n";
+    out << "steady state       " << format_fixed(m.steady_from_s, 0) << "–" << format_fixed(m.steady_to_s, 0)
+        << " s: mean error " << format_fixed(m.steady_mean_error_c, 3) << " °C, peak-to-peak "
+        << format_fixed(m.steady_peak_to_peak_c, 3) << " °C\n"
+        << "IAE                " << format_fixed(m.iae_c_s, 1) << " °C·s\n";
+    if (m.disturbance)
+      out << "after " << format_fixed(m.disturbance->at_s, 0) << " s        max |error| "
+          << format_fixed(m.disturbance->max_deviation_c, 2) << " °C, recovery "
+          << format_optional(m.disturbance->recovery_s, 1) << " s\n";
+  }
+  out << "T: reports         " << r.report_count << ", max |reported − true| "
+      << format_fixed(r.report_error_max_c, 3) << " °C\n"
+      << "control step       " << r.step_cycles.count << " steps, max " << r.step_cycles.max_cycles
+      << " cycles, mean " << format_fixed(r.step_cycles.mean_cycles(), 0) << "\n"
+      << "simulated          " << format_fixed(r.end_s, 1) << " s in " << format_fixed(r.wall_s, 2) << " s wall ("
+      << format_fixed(r.sim_speed(), 0) << "× real time)\n";
+  if (r.fault) print_fault(out, r);
+  for (const std::string& line : r.error_lines) out << "firmware said      " << line << "\n";
+  for (const std::string& p : r.problems) out << "problem            " << p << "\n";
+  for (const std::string& msg : r.simavr_messages) out << "simavr             " << msg;
+}
+
+std::vector<std::string> failed_checks(const RunResult& r, const CheckLimits& limits) {
+  std::vector<std::string> failed;
+  auto require = [&failed](bool ok, const std::string& what) {
+    if (!ok) failed.push_back(what);
+  };
+  require(r.booted, "the firmware never printed `start`");
+  require(r.heating_start_s.has_value(), "the firmware never acknowledged M104");
+  require(r.cpu == CpuState::kRunning, "the simulated CPU stopped or crashed");
+  if (!r.heating_start_s) return failed;
+
+  if (r.config.fault == FaultKind::kNone) {
+    const Metrics& m = r.metrics;
+    require(r.problems.empty(), "the host saw problems (see report)");
+    require(r.error_lines.empty(), "the firmware printed an Error: line");
+    require(r.resets == 0, "the CPU was reset during the run");
+    require(m.time_to_reach_s.has_value(), "never reached ±1 °C of the target");
+    require(m.overshoot_c <= limits.max_overshoot_c,
+            "overshoot " + format_fixed(m.overshoot_c, 2) + " °C > " + format_fixed(limits.max_overshoot_c, 2));
+    require(std::fabs(m.steady_mean_error_c) <= limits.max_steady_error_c,
+            "steady-state mean error " + format_fixed(m.steady_mean_error_c, 3) + " °C, limit ±" +
+                format_fixed(limits.max_steady_error_c, 2));
+    require(r.report_count > 0, "no T: reports");
+    require(r.report_error_max_c <= limits.max_report_error_c,
+            "reported temperature off by " + format_fixed(r.report_error_max_c, 3) + " °C > " +
+                format_fixed(limits.max_report_error_c, 2));
+    return failed;
+  }
+  require(r.fault.has_value(), "the fault was never injected");
+  if (!r.fault) return failed;
+  const FaultOutcome& f = *r.fault;
+  require(!f.heater_on_at_end, "the heater is on at the end of the run");
+  if (r.config.fault == FaultKind::kHang) {
+    require(f.reset_s.has_value(), "no watchdog reset after D0");
+    require(f.restarted, "no `start` after the watchdog reset");
+    require(!f.heater_on_after_reset, "the heater came on after the watchdog reset");
+  } else {
+    require(!f.heater_last_on_s || *f.heater_last_on_s <= limits.max_heater_off_s,
+            "heater still on " + format_optional(f.heater_last_on_s, 3) + " s after the fault");
+    require(f.error_line_s.has_value(), "no `Error:" + f.expected_error + "` line");
+    require(r.resets == 0, "the CPU was reset during the run");
+  }
+  return failed;
+}
+
+}  // namespace sim

@@ -1,0 +1,28 @@
+// The human-readable report of one run, and the pass/fail checks the HIL tests use.
+#pragma once
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "sim/sim_run.h"
+
+namespace sim {
+
+// Pass limits for `--check`; defaults are issue 2's HIL acceptance criteria.
+struct CheckLimits {
+  double max_overshoot_c = 5.0;
+  double max_steady_error_c = 0.5;   // |steady-state mean error|
+  double max_report_error_c = 1.0;   // T: reports vs the true sensor temperature
+  double max_heater_off_s = 1.0;     // fault runs: heater off this soon after the fault
+};
+
+void print_report(std::ostream& out, const RunResult& result);
+// Every failed check, as one line each; empty means pass.
+std::vector<std::string> failed_checks(const RunResult& result, const CheckLimits& limits);
+
+// Shared number formatting for reports and tables: "-" for an absent value.
+std::string format_fixed(double value, int decimals);
+std::string format_optional(const std::optional<double>& value, int decimals);
+
+}  // namespace sim

@@ -1,0 +1,279 @@
+#include "sim/sim_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <limits>
+
+#include "sim/host_session.h"
+#include "sim/sensor.h"
+#include "sim/trace_csv.h"
+
+namespace sim {
+namespace {
+
+constexpr uint32_t kPlantStepUs = 1000;  // plant and host are serviced every simulated ms
+constexpr double kPlantStepS = kPlantStepUs * 1e-6;
+constexpr int kStepsPerTraceSample = 100;  // trace every 0.1 s
+// A T: report may describe the mean over the last control period (128 ms), printed up to one
+// more period later: it is compared with the true temperature over this window before it.
+constexpr double kReportLatencyS = 0.3;
+constexpr double kBootTimeoutS = 5.0;
+constexpr double kSetupTimeoutS = 30.0;
+constexpr double kM105PeriodS = 5.0;  // M155 reports every second; M105 is polled as well
+constexpr double kRunChunkS = 0.25;
+
+std::string format_gains(const MarlinGains& g) {
+  char text[96];
+  std::snprintf(text, sizeof text, "M301 P%.4g I%.4g D%.4g", g.kp, g.ki, g.kd);
+  return text;
+}
+
+std::string format_target(double target_c) {
+  char text[32];
+  std::snprintf(text, sizeof text, "M104 S%g", target_c);
+  return text;
+}
+
+const char* expected_error(FaultKind kind) {
+  switch (kind) {
+    case FaultKind::kOpen: return "MINTEMP";   // open thermistor reads as very cold
+    case FaultKind::kShort: return "MAXTEMP";  // shorted thermistor reads as very hot
+    default: return "";
+  }
+}
+
+class Runner {
+ public:
+  explicit Runner(const RunConfig& config);
+  RunResult run();
+
+ private:
+  void on_plant_step();
+  void on_line(const ReplyLine& line);
+  void start_setup();
+  void send_due_commands(double now_s);
+  void check_report(const TempReport& report);
+  void record_trace(double now_s);
+  void finish();
+  bool before_fault(double t_s) const {
+    return config_.fault == FaultKind::kNone || !fault_abs_s_ || t_s < *fault_abs_s_;
+  }
+
+  RunConfig config_;
+  RunResult result_;
+  AvrBoard board_;
+  Plant plant_;
+  ThermistorAdc adc_;
+  HostSession session_;
+
+  std::vector<TimedCommand> timed_;  // sorted by at_s
+  std::size_t next_timed_ = 0;
+  double next_m105_s_ = 0.0;
+  double target_sent_c_ = 0.0;
+  std::optional<double> fault_abs_s_;
+  std::vector<double> reset_times_s_;
+  uint64_t heater_turn_ons_at_fault_reset_ = 0;  // heater().turn_on_count() right after it
+  std::deque<std::pair<double, double>> recent_true_;  // (t, true °C) over kReportLatencyS
+  // Trace accumulators over one sample period.
+  int trace_steps_ = 0;
+  double heater_sum_ = 0.0, fan_sum_ = 0.0;
+  double code_sum_ = 0.0;
+  int code_count_ = 0;
+  double reported_c_ = std::numeric_limits<double>::quiet_NaN();
+};
+
+Runner::Runner(const RunConfig& config)
+    : config_(config),
+      board_(config.board, config.elf_path),
+      plant_(config_.plant, kPlantStepS),
+      adc_(thermistor::kEpcos100k, config.board.thermistor_pullup_ohm, config.noise_lsb, config.seed),
+      session_(board_) {
+  result_.config = config;
+  for (const TimedCommand& c : config.gcode)
+    if (c.at_s) timed_.push_back(c);
+  std::stable_sort(timed_.begin(), timed_.end(),
+                   [](const TimedCommand& a, const TimedCommand& b) { return *a.at_s < *b.at_s; });
+
+  board_.set_adc_source(config.board.hotend_adc_channel, [this] {
+    const int code = adc_.sample_code(plant_.temperature_c());
+    code_sum_ += code;
+    ++code_count_;
+    return simavr_mv_for_code(code, board_.adc_ref_mv());
+  });
+  // The bed thermistor sits at ambient, so firmware that watches it sees a sane value.
+  const double bed_code = ThermistorAdc(thermistor::kEpcos100k, config.board.thermistor_pullup_ohm, 0.0, 0)
+                              .mean_code(config_.plant.ambient_c);
+  const uint16_t bed_mv = simavr_mv_for_code(silicon_code(bed_code, 0.0), board_.adc_ref_mv());
+  board_.set_adc_source(config.board.bed_adc_channel, [bed_mv] { return bed_mv; });
+
+  board_.every(kPlantStepUs, [this] { on_plant_step(); });
+  board_.on_reset([this] {
+    reset_times_s_.push_back(board_.time_s());
+    heater_turn_ons_at_fault_reset_ = board_.heater().turn_on_count();
+  });
+  session_.on_line([this](const ReplyLine& line) { on_line(line); });
+}
+
+void Runner::on_plant_step() {
+  const uint64_t now_cycle = board_.cycle();
+  const double now = board_.time_s();
+  const double heater = board_.heater().take_duty(now_cycle);
+  const double fan = board_.fan().take_duty(now_cycle);
+  plant_.step(PlantInput{heater, fan});
+
+  recent_true_.emplace_back(now, plant_.temperature_c());
+  while (recent_true_.front().first < now - kReportLatencyS) recent_true_.pop_front();
+
+  heater_sum_ += heater;
+  fan_sum_ += fan;
+  if (++trace_steps_ == kStepsPerTraceSample) record_trace(now);
+
+  send_due_commands(now);
+  session_.poll();
+}
+
+void Runner::send_due_commands(double now_s) {
+  if (!result_.heating_start_s) return;
+  const double t = now_s - *result_.heating_start_s;
+  while (next_timed_ < timed_.size() && t >= *timed_[next_timed_].at_s)
+    session_.send(timed_[next_timed_++].line);
+  if (config_.fault != FaultKind::kNone && !fault_abs_s_ && t >= config_.fault_at_s) {
+    fault_abs_s_ = now_s;
+    if (config_.fault == FaultKind::kOpen) adc_.set_fault(SensorFault::kOpen);
+    if (config_.fault == FaultKind::kShort) adc_.set_fault(SensorFault::kShorted);
+    if (config_.fault == FaultKind::kHang) session_.send("D0");
+  }
+  if (before_fault(now_s) && now_s >= next_m105_s_ && session_.idle()) {
+    session_.send("M105");
+    next_m105_s_ = now_s + kM105PeriodS;
+  }
+}
+
+void Runner::on_line(const ReplyLine& line) {
+  if (line.text == "start" && session_.boot_count() == 1) start_setup();
+  if (line.text.rfind("Error:", 0) == 0) result_.error_lines.push_back(line.text);
+  if (auto report = parse_temp_report(line.text)) {
+    reported_c_ = report->temp_c;
+    if (before_fault(line.t_s)) check_report(*report);
+  }
+}
+
+void Runner::start_setup() {
+  result_.booted = true;
+  if (config_.gains) session_.send(format_gains(*config_.gains));
+  for (const TimedCommand& c : config_.gcode)
+    if (!c.at_s) session_.send(c.line);
+  session_.send("M155 S1");
+  session_.send(format_target(config_.target_c), [this](double t_ok) {
+    result_.heating_start_s = t_ok;
+    target_sent_c_ = config_.target_c;
+    next_m105_s_ = t_ok + kM105PeriodS;
+  });
+}
+
+void Runner::check_report(const TempReport& report) {
+  double lo = recent_true_.front().second, hi = lo;
+  for (const auto& sample : recent_true_) {
+    lo = std::min(lo, sample.second);
+    hi = std::max(hi, sample.second);
+  }
+  const double error = std::max({0.0, lo - report.temp_c, report.temp_c - hi});
+  ++result_.report_count;
+  result_.report_error_max_c = std::max(result_.report_error_max_c, error);
+}
+
+void Runner::record_trace(double now_s) {
+  TraceSample s;
+  s.t_s = now_s;
+  s.true_c = plant_.temperature_c();
+  s.sensor_c = code_count_ ? adc_.temperature_for_code(code_sum_ / code_count_)
+                           : std::numeric_limits<double>::quiet_NaN();
+  s.reported_c = reported_c_;
+  s.target_c = target_sent_c_;
+  s.heater_duty = heater_sum_ / trace_steps_;
+  s.fan_duty = fan_sum_ / trace_steps_;
+  result_.trace.push_back(s);
+  trace_steps_ = 0;
+  heater_sum_ = fan_sum_ = code_sum_ = 0.0;
+  code_count_ = 0;
+}
+
+RunResult Runner::run() {
+  const auto wall_start = std::chrono::steady_clock::now();
+  for (;;) {
+    const double now = board_.time_s();
+    double until = now + kRunChunkS;
+    if (result_.heating_start_s) until = std::min(until, *result_.heating_start_s + config_.seconds);
+    result_.cpu = board_.run_until(board_.cycles_from_s(until));
+    const double t = board_.time_s();
+    if (result_.cpu != CpuState::kRunning) {
+      result_.problems.push_back(result_.cpu == CpuState::kCrashed ? "the CPU crashed" : "the CPU stopped");
+      break;
+    }
+    if (!result_.booted && t > kBootTimeoutS) {
+      result_.problems.push_back("no `start` line within 5 s of power-on");
+      break;
+    }
+    if (!result_.heating_start_s && t > kSetupTimeoutS) {
+      result_.problems.push_back("no `ok` to M104 within 30 s of power-on");
+      break;
+    }
+    if (result_.heating_start_s && t >= *result_.heating_start_s + config_.seconds) break;
+  }
+  result_.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  finish();
+  return std::move(result_);
+}
+
+void Runner::finish() {
+  result_.end_s = board_.time_s();
+  result_.step_cycles = board_.step_cycles();
+  result_.image = board_.image_size();
+  result_.resets = board_.reset_count();
+  result_.simavr_messages = board_.simavr_messages();
+  for (const std::string& p : session_.problems()) result_.problems.push_back(p);
+  result_.bound = physical_bound(config_.plant, config_.target_c);
+  if (!result_.heating_start_s) return;
+
+  const double t0 = *result_.heating_start_s;
+  std::optional<double> split_s;
+  if (!timed_.empty()) split_s = *timed_.front().at_s;
+  if (config_.fault != FaultKind::kNone) split_s = config_.fault_at_s;
+  result_.metrics = compute_metrics(result_.trace, t0, config_.target_c, split_s);
+
+  if (config_.fault != FaultKind::kNone && fault_abs_s_) {
+    FaultOutcome f;
+    const double tf = *fault_abs_s_;
+    // The pin meter knows the exact cycle of the last change: if the heater is off now, that
+    // was when it went off.
+    const PinMeter& heater = board_.heater();
+    f.heater_on_at_end = heater.is_on();
+    if (!f.heater_on_at_end)
+      f.heater_last_on_s = std::max(0.0, double(heater.last_change_cycle()) / board_.frequency_hz() - tf);
+    f.expected_error = expected_error(config_.fault);
+    for (const ReplyLine& line : session_.lines())
+      if (line.t_s >= tf && !f.expected_error.empty() && line.text.rfind("Error:", 0) == 0 &&
+          line.text.find(f.expected_error) != std::string::npos) {
+        f.error_line_s = line.t_s - tf;
+        break;
+      }
+    for (double t : reset_times_s_)
+      if (t >= tf) {
+        f.reset_s = t - tf;
+        break;
+      }
+    f.restarted = f.reset_s && session_.boot_count() >= 2;
+    f.heater_on_after_reset =
+        f.reset_s && (f.heater_on_at_end || heater.turn_on_count() > heater_turn_ons_at_fault_reset_);
+    result_.fault = f;
+  }
+  if (!config_.csv_path.empty()) write_trace_csv(config_.csv_path, result_.trace);
+}
+
+}  // namespace
+
+RunResult run_simulation(const RunConfig& config) { return Runner(config).run(); }
+
+}  // namespace sim

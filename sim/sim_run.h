@@ -1,0 +1,86 @@
+// One closed-loop run: a firmware image on a board, a plant, a sensor and a scripted host,
+// from power-on through heating to the end, with everything the report and checks need.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/avr_board.h"
+#include "sim/board_spec.h"
+#include "sim/bound.h"
+#include "sim/metrics.h"
+#include "sim/plants.h"
+
+namespace sim {
+
+// PID gains as hosts type them with M301 (Marlin units: output 0–255 per °C, Ki per second,
+// Kd in seconds).
+struct MarlinGains {
+  double kp = 0.0, ki = 0.0, kd = 0.0;
+};
+
+// A G-code line sent during setup (no time) or `at_s` seconds after the heating start.
+struct TimedCommand {
+  std::string line;
+  std::optional<double> at_s;
+};
+
+enum class FaultKind { kNone, kOpen, kShort, kHang };
+
+struct RunConfig {
+  BoardSpec board;
+  PlantSpec plant;
+  std::string elf_path;
+  double target_c = 210.0;
+  double seconds = 600.0;  // simulated time after the heating start
+  double noise_lsb = 0.5;  // Gaussian ADC noise σ, LSB (0: silicon's exact rounding)
+  uint64_t seed = 1;
+  std::optional<MarlinGains> gains;  // nullopt: sent by nobody (firmware default)
+  std::string gains_source;          // how `gains` were chosen, for the report
+  std::vector<TimedCommand> gcode;
+  FaultKind fault = FaultKind::kNone;
+  double fault_at_s = 0.0;           // after the heating start
+  std::string csv_path;
+};
+
+// What a fault run observed (times relative to the fault).
+struct FaultOutcome {
+  std::optional<double> heater_last_on_s;  // last moment the heater pin was on after the fault
+  bool heater_on_at_end = false;
+  std::optional<double> error_line_s;      // the expected Error: line, when it came
+  std::string expected_error;              // "" for hang
+  std::optional<double> reset_s;           // first CPU reset after the fault
+  bool restarted = false;                  // `start` printed again
+  bool heater_on_after_reset = false;
+};
+
+struct RunResult {
+  RunConfig config;
+  bool booted = false;
+  std::optional<double> heating_start_s;  // t0: the `ok` to M104, since power-on
+  double end_s = 0.0;
+  CpuState cpu = CpuState::kRunning;
+  Metrics metrics;
+  PhysicalBound bound;
+  int report_count = 0;                    // T: reports before any fault
+  double report_error_max_c = 0.0;         // see sim_run.cpp: kReportLatencyS
+  StepCycleStats step_cycles;
+  ImageSize image;
+  double wall_s = 0.0;
+  int resets = 0;
+  std::vector<std::string> error_lines;    // the firmware's Error: lines
+  std::vector<std::string> problems;       // what the harness saw go wrong
+  std::vector<std::string> simavr_messages;
+  std::optional<FaultOutcome> fault;
+  std::vector<TraceSample> trace;
+
+  double sim_speed() const { return wall_s > 0.0 ? end_s / wall_s : 0.0; }
+};
+
+// Runs to completion; never throws for firmware misbehaviour (that is in `problems`), throws
+// std::runtime_error only if the run cannot start (bad ELF, bad config).
+RunResult run_simulation(const RunConfig& config);
+
+}  // namespace sim

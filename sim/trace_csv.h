@@ -1,0 +1,15 @@
+// Writes a run's trace as CSV for plotting (one row per 0.1 s of simulated time).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "sim/metrics.h"
+
+namespace sim {
+
+// Columns: time_s,true_c,sensor_c,reported_c,target_c,heater_duty,fan_duty (NaN → empty).
+// Throws std::runtime_error if the file cannot be written.
+void write_trace_csv(const std::string& path, const std::vector<TraceSample>& trace);
+
+}  // namespace sim

@@ -16,8 +16,9 @@ uint8_t g_phase;  // ISR only: tick number in the 128-tick control period
 static_assert(hal::adc::kSamplesPerWindow == hal::heater_pwm::kPeriodTicks,
               "one ADC window per PWM period keeps their phase fixed");
 
-// Whole ISR, measured from the listing: see README/report for the figure. Everything below is
-// straight-line work on static data; the callees are inlined by LTO (one caller each).
+// Whole ISR including entry/exit: measured in simavr at max 189 / mean 162 cycles on the
+// ATmega2560 (port-H fan pin) and 179 / 152 on the ATmega1284P, i.e. ~1.2 % of the CPU at
+// 1 kHz. Straight-line work on static data; the callees are inlined by LTO (one caller each).
 inline void on_tick() {
   const uint8_t phase = g_phase;
   hal::adc::on_tick(phase == hal::adc::kSamplesPerWindow - 1);

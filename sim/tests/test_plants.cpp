@@ -1,0 +1,110 @@
+// The plant bank: the gains, dead times and discretisation the benchmark relies on.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sim/bound.h"
+#include "sim/default_gains.h"
+#include "sim/plants.h"
+
+namespace sim {
+namespace {
+
+const PlantSpec& plant(const char* name) {
+  const PlantSpec* p = find_plant(name);
+  EXPECT_NE(p, nullptr) << name;
+  return *p;
+}
+
+double settle_rise_k(const PlantSpec& spec, double heater, double fan, double seconds) {
+  Plant p(spec, 0.01);
+  for (int i = 0; i < static_cast<int>(seconds / 0.01); ++i) p.step(PlantInput{heater, fan});
+  return p.temperature_c() - spec.ambient_c;
+}
+
+TEST(PlantBank, SeedGainsAreRescaledTo450KAtFullPower) {
+  for (const char* name : {"seed002", "seed004", "seed003", "seed000-4", "seed000-5"})
+    EXPECT_NEAR(plant(name).model.dc_gain_k(), 450.0, 1e-6) << name;
+}
+
+TEST(PlantBank, Hotend40wIsPhysical) {
+  EXPECT_NEAR(plant("hotend40w").model.dc_gain_k(0.0), 40.0 / 0.068, 1e-9);
+  EXPECT_NEAR(plant("hotend40w").model.dc_gain_k(1.0), 40.0 / 0.097, 1e-9);
+}
+
+TEST(Plant, SimulatedSteadyStateMatchesTheDcGain) {
+  for (const PlantSpec& spec : plant_bank())
+    EXPECT_NEAR(settle_rise_k(spec, 0.5, 0.0, 40000.0), 0.5 * spec.model.dc_gain_k(), 1e-3) << spec.name;
+  const PlantSpec& hotend = plant("hotend40w");
+  EXPECT_NEAR(settle_rise_k(hotend, 1.0, 1.0, 5000.0), hotend.model.dc_gain_k(1.0), 1e-3);
+}
+
+TEST(Plant, FopdtIsExactAtSampleInstants) {
+  // K·(1 − e^(−(t−τ)/T)) after the dead time, nothing before it.
+  const PlantSpec& spec = plant("seed002");
+  Plant p(spec, 0.001);
+  for (int i = 0; i < 20700; ++i) p.step(PlantInput{1.0, 0.0});
+  EXPECT_NEAR(p.temperature_c(), spec.ambient_c, 1e-12);
+  for (int i = 0; i < 24000; ++i) p.step(PlantInput{1.0, 0.0});
+  EXPECT_NEAR(p.temperature_c() - spec.ambient_c, 450.0 * (1.0 - std::exp(-1.0)), 1e-9);
+}
+
+TEST(Plant, HeaterDutyActsThroughItsAverage) {
+  // A 50 % duty split over the step gives the same state as 50 % held: exact ZOH is linear.
+  const PlantSpec& spec = plant("seed003");
+  Plant a(spec, 0.001), b(spec, 0.001);
+  for (int i = 0; i < 30000; ++i) {
+    a.step(PlantInput{0.5, 0.0});
+    b.step(PlantInput{(i % 2) ? 1.0 : 0.0, 0.0});
+  }
+  EXPECT_NEAR(a.temperature_c(), b.temperature_c(), 0.01);
+}
+
+TEST(Plant, RejectsAStepThatDoesNotDivideTheDeadTime) {
+  EXPECT_THROW(Plant(plant("seed002"), 0.007), std::invalid_argument);
+}
+
+TEST(Expm, MatchesClosedForms) {
+  const Matrix e = expm(Matrix{{-2.0, 0.0}, {0.0, -0.5}} * 3.0);
+  EXPECT_NEAR(e(0, 0), std::exp(-6.0), 1e-12);
+  EXPECT_NEAR(e(1, 1), std::exp(-1.5), 1e-12);
+  const Matrix r = expm(Matrix{{0.0, -1.0}, {1.0, 0.0}} * 2.0);  // rotation by 2 rad
+  EXPECT_NEAR(r(0, 0), std::cos(2.0), 1e-12);
+  EXPECT_NEAR(r(1, 0), std::sin(2.0), 1e-12);
+}
+
+TEST(PhysicalBound, FopdtBoundIsDeadTimePlusTimeToEnterTheBand) {
+  // Full power until the output would enter the band after the dead time, then hold: the band is
+  // entered at τ + T·ln(K/(K − (r − 1))) and never left.
+  const PlantSpec& spec = plant("seed002");
+  const PhysicalBound b = physical_bound(spec, 210.0);
+  ASSERT_TRUE(b.reachable);
+  const double rise = 210.0 - 1.0 - spec.ambient_c;
+  EXPECT_NEAR(b.settling_s, 20.7 + 24.0 * std::log(450.0 / (450.0 - rise)), 0.05);
+  EXPECT_NEAR(b.steady_duty, (210.0 - 25.0) / 450.0, 1e-12);
+}
+
+TEST(PhysicalBound, UnreachableTargetIsFlagged) {
+  EXPECT_FALSE(physical_bound(plant("seed002"), 500.0).reachable);
+}
+
+TEST(PhysicalBound, NoControllerBeatsIt) {
+  // Sanity: the bound is never shorter than the time full power needs to reach the band.
+  for (const PlantSpec& spec : plant_bank()) {
+    const PhysicalBound b = physical_bound(spec, spec.default_target_c);
+    const auto s = full_power_step_response_k(spec, 0.02, static_cast<std::size_t>(b.settling_s / 0.02) + 10);
+    std::size_t k = 0;
+    while (s[k] < spec.default_target_c - 1.0 - spec.ambient_c) ++k;
+    EXPECT_GE(b.settling_s + 0.02, double(k + 1) * 0.02) << spec.name;
+  }
+}
+
+TEST(DefaultGains, TwoPointFitRecoversAnExactFopdt) {
+  const FopdtApproximation m = fopdt_approximation(plant("seed004"));
+  EXPECT_NEAR(m.gain_k, 450.0, 1e-6);
+  EXPECT_NEAR(m.lag_s, 25.5, 0.05);
+  EXPECT_NEAR(m.delay_s, 19.5, 0.05);
+}
+
+}  // namespace
+}  // namespace sim

@@ -37,8 +37,11 @@ namespace tick {
 
 void init() {
   TCCR0A = (1 << WGM01);               // CTC, TOP = OCR0A
-  OCR0A = 249;                         // 250 counts of 4 us
   TCCR0B = (1 << CS01) | (1 << CS00);  // clk / 64 = 250 kHz
+  // OCR0A after the clock select: simavr 1.6 applies the WGM bits only when TCCR0B is
+  // written and warns about an OCR write in "mode 0" before that. The counter cannot reach
+  // a compare in the few cycles between the two writes (one count = 64 cycles).
+  OCR0A = 249;                         // 250 counts of 4 us
   TIMSK0 = (1 << OCIE0A);
 }
 

@@ -2,8 +2,12 @@
 // whenever the hotend is more than kBandQ8 below a non-zero target, it must rise by at least
 // kMinRiseQ8 in every kWindowPeriods control periods. Otherwise the heater, the heater
 // cartridge's seat in the block or the thermistor's is suspect. Marlin uses the same idea
-// (WATCH_TEMP_PERIOD / INCREASE, THERMAL_PROTECTION_*) with 20 s / 2 degC for heating; this
-// uses 60 s because the seed plants have dead times up to ~21 s with a 20+ s lag after it.
+// (WATCH_TEMP_PERIOD / INCREASE, THERMAL_PROTECTION_*) with 20 s / 2 degC for heating. This
+// uses 120 s because the simulator's plant bank includes the seed000 models, which first dip
+// (non-minimum phase) and rise only ~1.5 degC in their first 60 s under the PID (measured in
+// hotend-sim: +1.4 / +1.9 degC at 60 s, +9.9 / +12.7 degC at 120 s). A real E3D-class hotend
+// rises ~2 degC per second at full power, so this is lenient; tighter limits belong to a
+// per-hotend protection setting (later issue).
 #pragma once
 #include <stdint.h>
 
@@ -15,7 +19,7 @@ class ThermalWatch {
  public:
   static constexpr int32_t kBandQ8 = 10L * 256;      // "far below target": 10 degC
   static constexpr int32_t kMinRiseQ8 = 2L * 256;    // required rise per window: 2 degC
-  static constexpr uint16_t kWindowPeriods = 469;    // 469 x 128 ms = 60.0 s
+  static constexpr uint16_t kWindowPeriods = 938;    // 938 x 128 ms = 120.1 s
   static constexpr int32_t kReachedQ8 = 2L * 256;    // within 2 degC counts as "target reached"
 
   // Call once per control period with a plausible reading. kHeatingFailed when the target

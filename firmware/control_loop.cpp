@@ -11,7 +11,6 @@ namespace firmware {
 void ControlLoop::run(uint16_t adc_q6) {
   hal::step_marker::begin();
   temp_q8_ = sensor::adc_q6_to_temp_q8(adc_q6);
-  has_reading_ = true;
   Fault fault = guard_.update(adc_q6, temp_q8_);
   if (fault == Fault::kNone && !guard_.reading_bad()) fault = watch_.update(heater_.target_q8(), temp_q8_);
   bool newly_latched = false;

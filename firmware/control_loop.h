@@ -18,8 +18,7 @@ class ControlLoop {
   // One period from the window's adc_q6 (mean ADC code x 64).
   void run(uint16_t adc_q6);
 
-  int32_t temp_q8() const { return temp_q8_; }  // latest conversion, degC x 256
-  bool has_reading() const { return has_reading_; }
+  int32_t temp_q8() const { return temp_q8_; }  // latest conversion, degC x 256 (0 before the first)
   // The cause of a MINTEMP/MAXTEMP fault is still present (M999 must refuse).
   bool reading_bad() const { return guard_.reading_bad(); }
   Fault reading_fault() const { return guard_.last(); }
@@ -30,7 +29,6 @@ class ControlLoop {
   RangeGuard guard_;
   ThermalWatch watch_;
   int32_t temp_q8_ = 0;
-  bool has_reading_ = false;
 };
 
 }  // namespace firmware

@@ -14,9 +14,9 @@ class HeaterManager {
  public:
   explicit HeaterManager(control::Controller& controller) : controller_(&controller) {}
 
-  // Makes `next` the active controller, handing over the present duty and temperature.
+  // Makes `next` the active controller, handing over the present duty and temperature
+  // (the run-time controller choice of issue 3 plugs in here).
   void select_controller(control::Controller& next, int32_t measured_q8);
-  control::Controller& controller() { return *controller_; }
 
   // 0 = off (the heater stops at the next PWM period). Refused while a fault is latched.
   const gcode::FlashText* set_target_q8(int32_t target_q8);

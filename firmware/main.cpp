@@ -59,5 +59,7 @@ int main() {
       g_gcode.feed(static_cast<char>(byte));
     }
     g_gcode.poll(hal::tick::millis());
+    // Lost input shows up as a checksum or line-number error the host resends; say why.
+    if (hal::uart::take_rx_dropped() != 0) g_out.write_flash(GCODE_TEXT("echo:Serial receive overrun, bytes lost\n"));
   }
 }

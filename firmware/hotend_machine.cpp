@@ -9,11 +9,21 @@
 namespace firmware {
 namespace {
 FIRMWARE_FLASH_JOIN(kMachineType, board::kName, " hotend");
+
+// A block with a good CRC can still hold gains this build's PID cannot represent (written by
+// another version): configure() must never see those, so such a block counts as invalid.
+bool load_usable_settings(Settings& out) {
+  Settings settings;
+  if (!load_settings(settings) || !control::Pid::valid(settings.pid, kControlPeriodMs)) return false;
+  out = settings;
+  return true;
+}
+
 }  // namespace
 
 void HotendMachine::load_settings_at_boot() {
   Settings settings = default_settings();
-  if (firmware::load_settings(settings)) {
+  if (load_usable_settings(settings)) {
     out_.write_flash(GCODE_TEXT("echo:Settings loaded from EEPROM\n"));
   } else {
     out_.write_flash(GCODE_TEXT("echo:EEPROM invalid (blank or corrupt), defaults loaded\n"));
@@ -73,7 +83,7 @@ const gcode::FlashText* HotendMachine::save_settings() {
 
 const gcode::FlashText* HotendMachine::load_settings() {
   Settings settings;
-  if (!firmware::load_settings(settings)) return GCODE_TEXT("EEPROM invalid (blank or corrupt), settings unchanged");
+  if (!load_usable_settings(settings)) return GCODE_TEXT("EEPROM invalid (blank or corrupt), settings unchanged");
   apply(settings);
   return nullptr;
 }

@@ -27,7 +27,7 @@ template <int N> struct Table {
 constexpr double kTableColdC = -5.0;
 constexpr double kTableHotC = 320.0;
 constexpr uint8_t kSlopeShift = 11;
-constexpr int kDefaultTableSize = 64;  // max error ≤ 0.1 °C over 0–300 °C: see test_thermistor.cpp
+constexpr int kDefaultTableSize = 63;  // 2^6 − 1: six loads per lookup; max error ≈ 0.065 °C (tests)
 
 namespace detail {
 
@@ -114,23 +114,31 @@ constexpr Table<N> make_table(const BasicSensor<Real>& sensor, uint32_t pullup_o
 }
 
 // Temperature for a mean ADC reading. `load(i)` returns Entry i (a PROGMEM reader in the firmware,
-// an array read on the host); it is called ~log2(count) + 3 times, so keep it inline. Readings
-// beyond the ends clamp to the end entries' temperatures.
+// an array read on the host). A binary search for the last entry at or below adc_q6 — written
+// with a single call site for `load` so that the compiler inlines the reader (on AVR an outlined
+// reader returning the 8-byte Entry costs more than the search). ⌈log2(count + 1)⌉ loads.
+// Readings beyond the ends clamp to the end entries' temperatures.
 template <class LoadEntry>
 int32_t adc_q6_to_temp_q8(LoadEntry load, uint8_t count, uint16_t adc_q6) {
-  uint8_t lo = 0;
-  uint8_t hi = count - 1;
-  const Entry hottest = load(lo);
-  if (adc_q6 <= hottest.adc_q6) return hottest.temp_q8;
-  const Entry coldest = load(hi);
-  if (adc_q6 >= coldest.adc_q6) return coldest.temp_q8;
-  while (hi - lo > 1) {  // invariant: entry[lo].adc_q6 < adc_q6 < entry[hi].adc_q6 (or == at lo)
+  uint8_t lo = 0;      // entries [0, lo) are at or below adc_q6 ...
+  uint8_t hi = count;  // ... and [hi, count) above it
+  Entry below{0, 0, 0};     // entry lo − 1 once lo > 0
+  int32_t above_temp_q8 = 0;  // temperature of entry hi once hi < count
+  while (lo < hi) {
     const uint8_t mid = static_cast<uint8_t>((lo + hi) >> 1);
-    if (load(mid).adc_q6 <= adc_q6) lo = mid; else hi = mid;
+    const Entry e = load(mid);
+    if (e.adc_q6 <= adc_q6) {
+      below = e;
+      lo = static_cast<uint8_t>(mid + 1);
+    } else {
+      above_temp_q8 = e.temp_q8;
+      hi = mid;
+    }
   }
-  const Entry e = load(lo);
-  const uint16_t steps = static_cast<uint16_t>(adc_q6 - e.adc_q6);
-  return e.temp_q8 - static_cast<int32_t>(fixed::shr_round(fixed::mul_u16(steps, e.slope_q11), kSlopeShift));
+  if (lo == 0) return above_temp_q8;       // hotter than the table: its hottest entry
+  if (lo == count) return below.temp_q8;   // colder than (or at) its coldest entry
+  const uint16_t steps = static_cast<uint16_t>(adc_q6 - below.adc_q6);
+  return below.temp_q8 - static_cast<int32_t>(fixed::shr_round(fixed::mul_u16(steps, below.slope_q11), kSlopeShift));
 }
 
 }  // namespace thermistor

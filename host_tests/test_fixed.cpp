@@ -62,6 +62,60 @@ TEST(Fixed, MulQ16IsExactFloorOverTheWholeRange) {
   }
 }
 
+TEST(Fixed, MulQ16RoundIsExactRoundHalfUp) {
+  const int32_t xs[] = {INT32_MIN + 32768, -65537, -65536, -3, -1, 0, 1, 3, 65535, 123456789, INT32_MAX - 65536};
+  const uint16_t as[] = {0, 1, 32768, 40000, 65535};
+  for (int32_t x : xs) {
+    for (uint16_t a : as) {
+      const int64_t p = int64_t(x) * a + 32768;
+      const int64_t exact = p >= 0 ? p / 65536 : -((-p + 65535) / 65536);
+      EXPECT_EQ(fixed::mul_q16_round(x, a), exact) << x << " * " << a;
+    }
+  }
+}
+
+TEST(Fixed, MultiplierRatioIsNearestAndAppliesExactly) {
+  struct Case { uint32_t a, b, c; };
+  const Case cases[] = {{1454899, 257, 65536},          // Kp 22.2 → q24 per q8
+                        {897, 128 * 2056, 125u << 16},  // Ki 0.0137 at 128 ms → q30 per q8 per sample
+                        {7471104, 257000, 128u << 16},  // Kd 114 at 128 ms
+                        {65535, 65535, 65536},          // fraction 65535/65536·65535: carries near 1
+                        {3, 1, 3}};
+  for (const Case& k : cases) {
+    const fixed::Multiplier m = fixed::multiplier_ratio(k.a, k.b, k.c);
+    const double exact = double(k.a) * k.b / k.c;
+    EXPECT_LE(std::fabs(m.whole + m.frac_q16 / 65536.0 - exact), 0.5 / 65536 + 1e-12) << k.a;
+    const int32_t limit = int32_t((1L << 30) / (m.whole + 1));  // mul_round's precondition
+    for (int32_t x : {-limit, -100000, -257, -1, 0, 1, 255, 76800, limit}) {
+      if (x < -limit || x > limit) continue;
+      const double product = x * (m.whole + m.frac_q16 / 65536.0);
+      EXPECT_EQ(fixed::mul_round(x, m), int32_t(std::floor(product + 0.5))) << x;
+    }
+  }
+}
+
+TEST(Fixed, MulDivRoundsLikeA64BitComputation) {
+  const uint32_t as[] = {0, 1, 2, 257, 65535, 65536, 1454899, 123456789, 4294967295u};
+  const uint32_t bs[] = {0, 1, 3, 257, 1000, 32896, 65536, 257000, 4294967295u};
+  const uint32_t cs[] = {1, 2, 3, 1000, 65536, 256000, 8388608, 2147483647u, 2147483648u};
+  int checked = 0;
+  for (uint32_t a : as) {
+    for (uint32_t b : bs) {
+      for (uint32_t c : cs) {
+        const uint64_t exact = (uint64_t(a) * b + c / 2) / c;  // round half up (c odd: same)
+        if (exact > 0xFFFFFFFFu) continue;
+        EXPECT_EQ(fixed::mul_div_u32(a, b, c), exact) << a << "*" << b << "/" << c;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 400);
+  const fixed::QuotientRemainder qr = fixed::mul_divmod_u32(4294967295u, 2147483647u, 2147483648u);
+  EXPECT_EQ(qr.quotient, 4294967293u);  // (2^32−1)(2^31−1) = (2^32−3)·2^31 + 1
+  EXPECT_EQ(qr.remainder, 1u);
+  static_assert(fixed::mul_div_u32(7, 1, 2) == 4, "3.5 rounds up");
+}
+
 TEST(Fixed, CompileTimeConversions) {
   static_assert(fixed::from_double(22.2, 16) == 1454899, "22.2 in Q16, rounded");
   static_assert(fixed::from_double(-1.5, 8) == -384, "negative rounds away from zero");

@@ -20,6 +20,10 @@ namespace {
 constexpr uint16_t kGpior0DataAddress = 0x3E;  // GPIOR0 (I/O 0x1E) on both MCUs
 constexpr std::size_t kMaxMessages = 64;        // keep the first simavr messages, count the rest
 constexpr uint8_t kAdcMuxHighChannels = 0x20;   // MUX5:0 = 1 0 0xxx selects ADC8..ADC15
+// Lets avr_run_one() execute up to this many cycles per call while no timer is due and no
+// interrupt is pending (simavr still stops at every timer and interrupt, so timing is exact);
+// avr_init() and every reset set it to 1, which costs a timer scan per instruction.
+constexpr avr_cycle_count_t kRunCycleLimit = 4096;
 
 // elf_read_firmware() mallocs these; avr_load_firmware() copies what it needs.
 struct ElfFirmware {
@@ -120,6 +124,7 @@ void AvrBoard::load(const BoardSpec& spec, const std::string& elf_path) {
   avr_->custom.data = this;
   avr_->log = LOG_WARNING;  // avr_init() sets 1, which hides crash reasons
   avr_->sleep = no_sleep;
+  avr_->run_cycle_limit = kRunCycleLimit;
   core_reset_ = avr_->reset;
   avr_->reset = &AvrBoard::reset_trampoline;
 }
@@ -249,6 +254,7 @@ void AvrBoard::reset_trampoline(avr_t* avr) {
 void AvrBoard::after_reset() {
   // avr_reset() has just deleted every cycle timer and zeroed the I/O space.
   ++reset_count_;
+  avr_->run_cycle_limit = kRunCycleLimit;
   const uint64_t now = cycle();
   heater_->reset(now);
   fan_->reset(now);

@@ -8,9 +8,9 @@ namespace sim {
 namespace {
 
 // Fine enough for settling times of tens of seconds, and divides every dead time in the bank.
-constexpr double kBoundStepS = 0.02;
+constexpr double kBoundStepS = 0.05;
 constexpr double kMaxHorizonS = 40000.0;
-constexpr std::size_t kCoarseCandidates = 400;
+constexpr std::size_t kCoarseCandidates = 100;
 
 // By linearity, the response to "1 until step j, then u_ss" is s[k] − (1 − u_ss)·s[k − j],
 // with s the full-power step response. Returns the index after the last sample outside the band

@@ -1,5 +1,6 @@
 #include "sim/default_gains.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <vector>
 
@@ -9,6 +10,7 @@ namespace {
 constexpr double kFitStepS = 0.01;
 constexpr double kFitHorizonS = 20000.0;
 constexpr double kMarlinOutputScale = 255.0;  // Marlin gains act on a 0–255 output
+constexpr double kClosedLoopLagPerDelay = 2.0;  // SIMC tuning parameter tc / τ
 
 // First time the response reaches `level` (linear interpolation between samples).
 double crossing_s(const std::vector<double>& s, double level) {
@@ -40,14 +42,16 @@ GainChoice default_gains(const PlantSpec& plant) {
   GainChoice choice;
   choice.model = fopdt_approximation(plant);
   const double k = choice.model.gain_k, t = choice.model.lag_s, tau = choice.model.delay_s;
-  // AMIGO PID (Åström & Hägglund 2004): robust, little overshoot on lag- and delay-dominated
-  // plants alike.
-  const double kp = (0.2 + 0.45 * t / tau) / k;
-  const double ti = (0.4 * tau + 0.8 * t) / (tau + 0.1 * t) * tau;
-  const double td = 0.5 * tau * t / (0.3 * tau + t);
-  choice.gains = MarlinGains{kMarlinOutputScale * kp, kMarlinOutputScale * kp / ti, kMarlinOutputScale * kp * td};
+  // SIMC PI (Skogestad 2003) with the smooth setting tc = 2τ: no derivative (robust to ADC
+  // noise) and, on every plant of the bank, no more than ~0.5 °C overshoot for the heat-up step
+  // from ambient despite heater saturation; tc = τ ("tight") overshoots 8–13 °C on the
+  // delay-dominated seeds. Kc = T/(K·(tc + τ)), Ti = min(T, 4·(tc + τ)).
+  const double tc = kClosedLoopLagPerDelay * tau;
+  const double kc = t / (k * (tc + tau));
+  const double ti = std::min(t, 4.0 * (tc + tau));
+  choice.gains = MarlinGains{kMarlinOutputScale * kc, kMarlinOutputScale * kc / ti, 0.0};
   char text[160];
-  std::snprintf(text, sizeof text, "AMIGO on FOPDT K %.1f K, T %.1f s, τ %.1f s", k, t, tau);
+  std::snprintf(text, sizeof text, "SIMC PI, tc = 2τ, on FOPDT K %.1f K, T %.1f s, τ %.1f s", k, t, tau);
   choice.description = text;
   return choice;
 }

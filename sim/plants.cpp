@@ -81,7 +81,7 @@ std::vector<PlantSpec> make_bank() {
                                    {0.001088, 0.01527, -1.538, -0.07442}},
                             Matrix::column({-2.87e-7, -5.262e-6, 5.458e-5, -9.529e-5}),
                             Matrix{{1107.0, -0.4442, -0.3671, -0.5748}}),
-       false, 25.0, 150.0, 1200.0});
+       false, 25.0, 150.0, 2400.0});
   // Seed 000/001 eq. (3): 5 states.
   bank.push_back(
       {"seed000-5", "5-state identified model (seed 000 eq. 3, Surmak & Piotrowski)",
@@ -92,7 +92,7 @@ std::vector<PlantSpec> make_bank() {
                                    {-0.00246, -0.05437, 0.4936, 0.6984, -7.359}},
                             Matrix::column({1.919e-7, 1.336e-4, -2.284e-4, 6.544e-4, 3.081e-3}),
                             Matrix{{1098.0, 0.808, -2.372, -1.776, -1.297}}),
-       false, 25.0, 150.0, 1200.0});
+       false, 25.0, 150.0, 2400.0});
   return bank;
 }
 

@@ -113,32 +113,30 @@ constexpr Table<N> make_table(const BasicSensor<Real>& sensor, uint32_t pullup_o
   return table;
 }
 
-// Temperature for a mean ADC reading. `load(i)` returns Entry i (a PROGMEM reader in the firmware,
-// an array read on the host). A binary search for the last entry at or below adc_q6 — written
-// with a single call site for `load` so that the compiler inlines the reader (on AVR an outlined
-// reader returning the 8-byte Entry costs more than the search). ⌈log2(count + 1)⌉ loads.
-// Readings beyond the ends clamp to the end entries' temperatures.
+// Temperature for a mean ADC reading. `load(i)` returns Entry i, or something convertible to it
+// that has the key as `.adc_q6` (a PROGMEM reader in the firmware, an array read on the host).
+// Binary search for the last entry at or below adc_q6, reading only keys: ⌈log2(count + 1)⌉
+// probes, then one full entry. Best with a reader whose unused fields the compiler can drop
+// (firmware/temperature_sensor.cpp: ~350 AVR cycles); avr-libc's volatile pgm_read_* cannot be
+// dropped. Readings beyond the ends clamp to the end entries' temperatures.
 template <class LoadEntry>
 int32_t adc_q6_to_temp_q8(LoadEntry load, uint8_t count, uint16_t adc_q6) {
   uint8_t lo = 0;      // entries [0, lo) are at or below adc_q6 ...
   uint8_t hi = count;  // ... and [hi, count) above it
-  Entry below{0, 0, 0};     // entry lo − 1 once lo > 0
-  int32_t above_temp_q8 = 0;  // temperature of entry hi once hi < count
   while (lo < hi) {
     const uint8_t mid = static_cast<uint8_t>((lo + hi) >> 1);
-    const Entry e = load(mid);
-    if (e.adc_q6 <= adc_q6) {
-      below = e;
+    if (load(mid).adc_q6 <= adc_q6) {
       lo = static_cast<uint8_t>(mid + 1);
     } else {
-      above_temp_q8 = e.temp_q8;
       hi = mid;
     }
   }
-  if (lo == 0) return above_temp_q8;       // hotter than the table: its hottest entry
-  if (lo == count) return below.temp_q8;   // colder than (or at) its coldest entry
+  if (lo == 0) return Entry(load(0)).temp_q8;  // hotter than the table: its hottest entry
+  const Entry below = load(static_cast<uint8_t>(lo - 1));
+  if (lo == count) return below.temp_q8;  // colder than (or at) its coldest entry
   const uint16_t steps = static_cast<uint16_t>(adc_q6 - below.adc_q6);
-  return below.temp_q8 - static_cast<int32_t>(fixed::shr_round(fixed::mul_u16(steps, below.slope_q11), kSlopeShift));
+  return below.temp_q8 -
+         static_cast<int32_t>(fixed::shr_round(fixed::mul_u16(steps, below.slope_q11), kSlopeShift));
 }
 
 }  // namespace thermistor

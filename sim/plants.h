@@ -1,6 +1,6 @@
 // The plant bank: hotend thermal models from the seed papers plus one physical model, all in
-// continuous time (seconds), output = temperature rise above ambient (K), input = heater duty
-// 0–1 (and part-fan duty 0–1 where the model has a fan path). Plant steps one instance exactly
+// continuous time (seconds), output = temperature rise above ambient (K), inputs = heater duty
+// 0–1 and part-fan duty 0–1 (extra heat loss, see plants.cpp). Plant steps one instance exactly
 // (zero-order hold on the measured duty, dead time as a delay line).
 #pragma once
 
@@ -12,7 +12,11 @@
 
 namespace sim {
 
-// x' = (A + fan·A_fan)·x + B·u(t − delay),  rise = C·x.
+// x' = (A + fan·A_fan)·x + B·u,  rise(t) = C·x(t − delay).
+// The dead time sits at the output (transport from the heated block to the thermistor): for
+// the heater this is the same as an input delay, and it makes the fan's extra loss reach the
+// sensor through the same delay as the heater's power — a fan step is then an input-equivalent
+// disturbance that feedforward can cancel, not one that outruns every controller.
 struct LtiModel {
   Matrix a;
   Matrix a_fan;  // same shape as a; all zero when the fan is not modelled
@@ -29,7 +33,6 @@ struct PlantSpec {
   std::string name;
   std::string description;
   LtiModel model;
-  bool models_fan = false;
   double ambient_c = 25.0;
   // What the HIL tests and the benchmark run on this plant by default: the seed000 models are
   // nearly integrating (slow poles of 10–20 min), so they get the seed's own 150 °C set point
@@ -54,13 +57,12 @@ class Plant {
   // Advances the model by dt with the given average inputs.
   void step(const PlantInput& in);
   // The "true" temperature: the sensor node / model output, °C.
-  double temperature_c() const { return spec_.ambient_c + rise_k(); }
+  double temperature_c() const { return spec_.ambient_c + rise_k_; }
   double time_s() const { return double(steps_) * dt_s_; }
   double dt_s() const { return dt_s_; }
   const PlantSpec& spec() const { return spec_; }
 
  private:
-  double rise_k() const;
   const Discretised& zoh_for_fan_level(int level);
 
   static constexpr int kFanLevels = 256;         // airflow quantised to 1/256 for the cache
@@ -69,8 +71,10 @@ class Plant {
   PlantSpec spec_;
   double dt_s_;
   std::vector<double> x_, x_next_;  // state, and scratch for the update (no allocation per step)
-  std::vector<double> delay_line_;  // heater duty per step, oldest at delay_index_
+  std::vector<double> delay_line_;  // C·x per step over the dead time, oldest at delay_index_
   std::size_t delay_index_ = 0;
+  double rise_k_ = 0.0;             // the delayed output
+  double airflow_step_gain_;        // first-order lag of the airflow per step
   double airflow_ = 0.0;            // filtered fan duty 0..1
   std::vector<std::unique_ptr<Discretised>> zoh_by_fan_level_;
   long long steps_ = 0;

@@ -33,10 +33,17 @@ TEST(PlantBank, Hotend40wIsPhysical) {
 }
 
 TEST(Plant, SimulatedSteadyStateMatchesTheDcGain) {
+  // Also shows every model is stable with the fan's extra loss.
   for (const PlantSpec& spec : plant_bank())
-    EXPECT_NEAR(settle_rise_k(spec, 0.5, 0.0, 40000.0), 0.5 * spec.model.dc_gain_k(), 1e-3) << spec.name;
-  const PlantSpec& hotend = plant("hotend40w");
-  EXPECT_NEAR(settle_rise_k(hotend, 1.0, 1.0, 5000.0), hotend.model.dc_gain_k(1.0), 1e-3);
+    for (double fan : {0.0, 1.0})
+      EXPECT_NEAR(settle_rise_k(spec, 0.5, fan, 40000.0), 0.5 * spec.model.dc_gain_k(fan), 1e-3)
+          << spec.name << " fan " << fan;
+}
+
+TEST(PlantBank, TheFanRaisesTheLossLikeHotend40wsOnEveryPlant) {
+  const double ratio = plant("hotend40w").model.dc_gain_k(0.0) / plant("hotend40w").model.dc_gain_k(1.0);
+  for (const PlantSpec& spec : plant_bank())
+    EXPECT_NEAR(spec.model.dc_gain_k(0.0) / spec.model.dc_gain_k(1.0), ratio, 1e-9) << spec.name;
 }
 
 TEST(Plant, FopdtIsExactAtSampleInstants) {

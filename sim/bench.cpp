@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <exception>
+#include <functional>
 #include <thread>
 
 #include "sim/report.h"
@@ -21,37 +22,81 @@ RunResult run_case(const BenchCase& c) {
   }
 }
 
-std::vector<std::string> row_for(const RunResult& r) {
-  const Metrics& m = r.metrics;
-  const bool ran = r.heating_start_s.has_value();
-  auto when_ran = [ran](std::string text) { return ran ? text : std::string("-"); };
-  std::string ratio = "-";
-  if (m.settling_s && r.bound.reachable) ratio = format_fixed(*m.settling_s / r.bound.settling_s, 2);
-  return {r.config.board.id,
-          r.config.plant.name,
-          format_fixed(r.config.target_c, 0),
-          when_ran(format_optional(m.time_to_reach_s, 1)),
-          when_ran(format_fixed(m.overshoot_c, 2)),
-          when_ran(format_optional(m.settling_s, 1)),
-          r.bound.reachable ? format_fixed(r.bound.settling_s, 1) : "-",
-          ratio,
-          when_ran(format_fixed(m.steady_mean_error_c, 3)),
-          when_ran(format_fixed(m.steady_peak_to_peak_c, 3)),
-          when_ran(format_fixed(m.iae_c_s, 0)),
-          std::to_string(r.step_cycles.max_cycles) + " / " + format_fixed(r.step_cycles.mean_cycles(), 0),
-          format_fixed(r.sim_speed(), 0),
-          std::to_string(r.image.flash_bytes) + " / " + std::to_string(r.image.ram_bytes),
-          r.problems.empty() && r.error_lines.empty() ? "" : "see report"};
+struct Column {
+  const char* title;
+  std::function<std::string(const BenchCase&, const RunResult&)> cell;
+};
+
+// "-" for runs that never started heating.
+std::string when_heated(const RunResult& r, std::string text) {
+  return r.heating_start_s ? text : std::string("-");
 }
 
-const std::vector<std::string> kHeader = {
-    "board", "plant", "target °C", "reach s", "overshoot °C", "settling s", "bound s", "ratio",
-    "ss mean err °C", "ss p-p °C", "IAE °C·s", "step cycles max / mean", "sim speed ×",
-    "flash / RAM B", "notes"};
+std::vector<Column> columns(bool variants, bool disturbance) {
+  std::vector<Column> cols;
+  if (variants) cols.push_back({"variant", [](const BenchCase& c, const RunResult&) { return c.variant; }});
+  cols.push_back({"board", [](const BenchCase& c, const RunResult&) { return c.config.board.id; }});
+  cols.push_back({"plant", [](const BenchCase& c, const RunResult&) { return c.config.plant.name; }});
+  cols.push_back({"target °C", [](const BenchCase& c, const RunResult&) { return format_fixed(c.config.target_c, 0); }});
+  cols.push_back({"reach s", [](const BenchCase&, const RunResult& r) {
+                    return when_heated(r, format_optional(r.metrics.time_to_reach_s, 1));
+                  }});
+  cols.push_back({"overshoot °C", [](const BenchCase&, const RunResult& r) {
+                    return when_heated(r, format_fixed(r.metrics.overshoot_c, 2));
+                  }});
+  cols.push_back({"settling s", [](const BenchCase&, const RunResult& r) {
+                    return when_heated(r, format_optional(r.metrics.settling_s, 1));
+                  }});
+  cols.push_back({"bound s", [](const BenchCase&, const RunResult& r) {
+                    return r.bound.reachable ? format_fixed(r.bound.settling_s, 1) : "-";
+                  }});
+  cols.push_back({"ratio", [](const BenchCase&, const RunResult& r) {
+                    const auto& s = r.metrics.settling_s;
+                    return s && r.bound.reachable ? format_fixed(*s / r.bound.settling_s, 2) : "-";
+                  }});
+  cols.push_back({"ss mean err °C", [](const BenchCase&, const RunResult& r) {
+                    return when_heated(r, format_fixed(r.metrics.steady_mean_error_c, 3));
+                  }});
+  cols.push_back({"ss p-p °C", [](const BenchCase&, const RunResult& r) {
+                    return when_heated(r, format_fixed(r.metrics.steady_peak_to_peak_c, 3));
+                  }});
+  cols.push_back({"IAE °C·s", [](const BenchCase&, const RunResult& r) {
+                    return when_heated(r, format_fixed(r.metrics.iae_c_s, 0));
+                  }});
+  if (disturbance) {
+    cols.push_back({"dist. max err °C", [](const BenchCase&, const RunResult& r) {
+                      const auto& d = r.metrics.disturbance;
+                      return d ? format_fixed(d->max_deviation_c, 2) : "-";
+                    }});
+    cols.push_back({"recovery s", [](const BenchCase&, const RunResult& r) {
+                      const auto& d = r.metrics.disturbance;
+                      return d ? format_optional(d->recovery_s, 1) : "-";
+                    }});
+  }
+  cols.push_back({"T: err °C", [](const BenchCase&, const RunResult& r) {
+                    return r.report_count ? format_fixed(r.report_error_max_c, 2) : "-";
+                  }});
+  cols.push_back({"step cycles max / mean", [](const BenchCase&, const RunResult& r) {
+                    return std::to_string(r.step_cycles.max_cycles) + " / " +
+                           format_fixed(r.step_cycles.mean_cycles(), 0);
+                  }});
+  cols.push_back({"sim speed ×", [](const BenchCase&, const RunResult& r) { return format_fixed(r.sim_speed(), 0); }});
+  cols.push_back({"flash / RAM B", [](const BenchCase&, const RunResult& r) {
+                    return std::to_string(r.image.flash_bytes) + " / " + std::to_string(r.image.ram_bytes);
+                  }});
+  cols.push_back({"notes", [](const BenchCase&, const RunResult& r) {
+                    return r.problems.empty() && r.error_lines.empty() ? std::string() : "see below";
+                  }});
+  return cols;
+}
 
 // Display width in characters (UTF-8 continuation bytes do not count).
 std::size_t width(const std::string& s) {
   return static_cast<std::size_t>(std::count_if(s.begin(), s.end(), [](char ch) { return (ch & 0xC0) != 0x80; }));
+}
+
+std::string case_name(const BenchCase& c) {
+  return (c.variant.empty() ? "" : c.variant + "/") + c.config.board.id + "/" + c.config.plant.name;
 }
 
 }  // namespace
@@ -60,6 +105,8 @@ std::vector<RunResult> run_bench(const std::vector<BenchCase>& cases, unsigned j
   if (jobs == 0) jobs = std::max(1u, std::thread::hardware_concurrency());
   std::vector<RunResult> results(cases.size());
   std::atomic<std::size_t> next{0};
+  // Each thread owns the avr_t of the case it runs; simavr keeps no shared mutable state
+  // across instances apart from the logger, which AvrBoard installs once.
   auto worker = [&] {
     for (std::size_t i = next++; i < cases.size(); i = next++) results[i] = run_case(cases[i]);
   };
@@ -69,10 +116,20 @@ std::vector<RunResult> run_bench(const std::vector<BenchCase>& cases, unsigned j
   return results;
 }
 
-void print_bench_table(std::ostream& out, const std::vector<RunResult>& results, bool markdown) {
-  std::vector<std::vector<std::string>> rows{kHeader};
-  for (const RunResult& r : results) rows.push_back(row_for(r));
-  std::vector<std::size_t> widths(kHeader.size(), 0);
+void print_bench_table(std::ostream& out, const std::vector<BenchCase>& cases,
+                       const std::vector<RunResult>& results, bool markdown) {
+  const bool variants = std::any_of(cases.begin(), cases.end(), [](const BenchCase& c) { return !c.variant.empty(); });
+  const bool disturbance =
+      std::any_of(results.begin(), results.end(), [](const RunResult& r) { return r.metrics.disturbance.has_value(); });
+  const std::vector<Column> cols = columns(variants, disturbance);
+
+  std::vector<std::vector<std::string>> rows(1);
+  for (const Column& c : cols) rows[0].push_back(c.title);
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    rows.emplace_back();
+    for (const Column& c : cols) rows.back().push_back(c.cell(cases[i], results[i]));
+  }
+  std::vector<std::size_t> widths(cols.size(), 0);
   for (const auto& row : rows)
     for (std::size_t i = 0; i < row.size(); ++i) widths[i] = std::max(widths[i], width(row[i]));
   for (std::size_t r = 0; r < rows.size(); ++r) {
@@ -86,6 +143,14 @@ void print_bench_table(std::ostream& out, const std::vector<RunResult>& results,
       for (std::size_t w : widths) out << "|" << std::string(w + 2, '-');
       out << "|\n";
     }
+  }
+}
+
+void print_bench_notes(std::ostream& out, const std::vector<BenchCase>& cases,
+                       const std::vector<RunResult>& results) {
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    for (const std::string& line : results[i].error_lines) out << case_name(cases[i]) << ": firmware: " << line << "\n";
+    for (const std::string& p : results[i].problems) out << case_name(cases[i]) << ": " << p << "\n";
   }
 }
 

@@ -12,13 +12,18 @@ namespace sim {
 
 struct BenchCase {
   RunConfig config;
+  std::string variant;  // label of the controller/settings variant ("" when there is one)
 };
 
 // Runs the cases on `jobs` threads (0: one per hardware thread); results in case order.
 // A case that cannot start yields a result whose `problems` says why.
 std::vector<RunResult> run_bench(const std::vector<BenchCase>& cases, unsigned jobs);
 
-// One row per result; Markdown (for README) or aligned plain text.
-void print_bench_table(std::ostream& out, const std::vector<RunResult>& results, bool markdown);
+// One row per case; Markdown (for README) or aligned plain text.
+void print_bench_table(std::ostream& out, const std::vector<BenchCase>& cases,
+                       const std::vector<RunResult>& results, bool markdown);
+// What went wrong in which case (host problems, the firmware's Error: lines), one per line.
+void print_bench_notes(std::ostream& out, const std::vector<BenchCase>& cases,
+                       const std::vector<RunResult>& results);
 
 }  // namespace sim

@@ -24,8 +24,10 @@ const char* const kUsage = R"(usage:
              [--csv FILE] [--noise-lsb SIGMA] [--seed N] [--gains P,I,D] [--gcode "CMD;CMD@T"]
              [--elf FILE] [--fault open@T|short@T|hang@T] [--check] [--max-overshoot C]
              [--max-steady-error C] [--max-report-error C] [--quiet]
-  hotend-sim bench [--markdown] [--boards a,b] [--plants x,y] [--jobs N] [--noise-lsb SIGMA]
-             [--seed N] [--gcode "CMD@T"] [--csv-dir DIR] [--elf-dir DIR]
+  hotend-sim bench [--markdown] [--boards a,b] [--plants x,y] [--target C] [--seconds S] [--jobs N]
+             [--noise-lsb SIGMA]
+             [--seed N] [--gains P,I,D] [--gcode "CMD@T"] [--variant NAME=GCODE]...
+             [--csv-dir DIR] [--elf-dir DIR]
   hotend-sim list
 
 run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the untimed --gcode
@@ -36,7 +38,10 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the unti
   the plant's FOPDT approximation (see `list`), ELF from this build's firmware directory.
   --fault: thermistor open/short or a D0 hang T s after t0; the run ends 5 s after it.
   --check: exit 1 (listing what failed) unless the run meets the HIL limits.
-bench: every board × plant (or the given ones) in parallel; prints one table.
+bench: every board × plant (or the given ones) at the plant's default target and duration (or
+  --target/--seconds for all), in
+  parallel; prints one table (disturbance columns when --gcode has a timed command) and, under
+  it, every problem or Error: line. Each --variant runs the grid again with its G-code.
 )";
 
 std::vector<std::string> split(const std::string& text, char separator) {
@@ -97,14 +102,19 @@ void parse_fault(const std::string& text, RunConfig& config) {
 
 // --name value / --name=value pairs and bare flags.
 struct Options {
-  std::map<std::string, std::string> values;
+  std::map<std::string, std::vector<std::string>> values;  // every occurrence, in order
   std::vector<std::string> flags;
   bool has(const std::string& name) const {
     return values.count(name) || std::find(flags.begin(), flags.end(), name) != flags.end();
   }
+  // The last occurrence wins.
   std::string get(const std::string& name, const std::string& fallback = "") const {
     auto it = values.find(name);
-    return it == values.end() ? fallback : it->second;
+    return it == values.end() ? fallback : it->second.back();
+  }
+  std::vector<std::string> all(const std::string& name) const {
+    auto it = values.find(name);
+    return it == values.end() ? std::vector<std::string>{} : it->second;
   }
 };
 
@@ -116,12 +126,12 @@ Options parse_options(const std::vector<std::string>& args, const std::vector<st
     name = name.substr(2);
     const auto eq = name.find('=');
     if (eq != std::string::npos) {
-      o.values[name.substr(0, eq)] = name.substr(eq + 1);
+      o.values[name.substr(0, eq)].push_back(name.substr(eq + 1));
     } else if (std::find(flag_names.begin(), flag_names.end(), name) != flag_names.end()) {
       o.flags.push_back(name);
     } else {
       if (i + 1 >= args.size()) throw std::invalid_argument("--" + name + " needs a value");
-      o.values[name] = args[++i];
+      o.values[name].push_back(args[++i]);
     }
   }
   return o;
@@ -196,7 +206,8 @@ int run_command(const std::vector<std::string>& args) {
 
 int bench_command(const std::vector<std::string>& args) {
   const Options o = parse_options(args, {"markdown"});
-  reject_unknown(o, {"boards", "plants", "jobs", "noise-lsb", "seed", "gcode", "csv-dir", "elf-dir"});
+  reject_unknown(o, {"boards", "plants", "target", "seconds", "jobs", "noise-lsb", "seed", "gains", "gcode",
+                     "variant", "csv-dir", "elf-dir"});
   std::vector<std::string> boards, plants;
   for (const BoardSpec& b : all_boards()) boards.push_back(b.id);
   for (const PlantSpec& p : plant_bank()) plants.push_back(p.name);
@@ -204,25 +215,36 @@ int bench_command(const std::vector<std::string>& args) {
   if (o.has("plants")) plants = split(o.get("plants"), ',');
   const std::string elf_dir = o.get("elf-dir", HOTEND_SIM_FIRMWARE_DIR);
 
+  // --variant NAME=GCODE (repeatable): the same board × plant grid once per variant, with the
+  // variant's untimed G-code sent after the gains (e.g. a controller choice or its own M301).
+  std::vector<std::pair<std::string, std::string>> variants{{"", ""}};
+  if (o.has("variant")) variants.clear();
+  for (const std::string& v : o.all("variant")) {
+    const auto eq = v.find('=');
+    variants.emplace_back(v.substr(0, eq), eq == std::string::npos ? "" : v.substr(eq + 1));
+  }
+
   std::vector<BenchCase> cases;
-  for (const std::string& board : boards)
-    for (const std::string& plant : plants) {
-      RunConfig c;
-      c.board = board_named(board);
-      c.plant = plant_named(plant);
-      c.target_c = c.plant.default_target_c;
-      c.seconds = c.plant.default_seconds;
-      c.elf_path = default_elf_path(elf_dir, c.board);
-      apply_common(o, c);
-      if (o.has("csv-dir")) c.csv_path = o.get("csv-dir") + "/" + board + "-" + plant + ".csv";
-      cases.push_back(BenchCase{c});
-    }
+  for (const auto& [variant, variant_gcode] : variants)
+    for (const std::string& board : boards)
+      for (const std::string& plant : plants) {
+        RunConfig c;
+        c.board = board_named(board);
+        c.plant = plant_named(plant);
+        c.target_c = parse_number(o.get("target", std::to_string(c.plant.default_target_c)), "--target");
+        c.seconds = parse_number(o.get("seconds", std::to_string(c.plant.default_seconds)), "--seconds");
+        c.elf_path = default_elf_path(elf_dir, c.board);
+        apply_common(o, c);
+        const std::vector<TimedCommand> extra = parse_gcode(variant_gcode);
+        c.gcode.insert(c.gcode.begin(), extra.begin(), extra.end());
+        if (o.has("csv-dir"))
+          c.csv_path = o.get("csv-dir") + "/" + board + "-" + plant + (variant.empty() ? "" : "-" + variant) + ".csv";
+        cases.push_back(BenchCase{c, variant});
+      }
   const unsigned jobs = static_cast<unsigned>(parse_number(o.get("jobs", "0"), "--jobs"));
   const std::vector<RunResult> results = run_bench(cases, jobs);
-  print_bench_table(std::cout, results, o.has("markdown"));
-  for (const RunResult& r : results)
-    for (const std::string& p : r.problems)
-      std::cout << r.config.board.id << "/" << r.config.plant.name << ": " << p << "\n";
+  print_bench_table(std::cout, cases, results, o.has("markdown"));
+  print_bench_notes(std::cout, cases, results);
   return 0;
 }
 

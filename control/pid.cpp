@@ -20,6 +20,7 @@ fixed::Multiplier kp_multiplier(int32_t kp_q16) {  // Kp·257
   return fixed::multiplier_ratio(static_cast<uint32_t>(kp_q16), 257, 65536);
 }
 fixed::Multiplier ki_multiplier(int32_t ki_q16, uint16_t period_ms) {  // Ki·(ms/1000)·257·2^8 (q32)
+  // 257·256/1000 = 8224/125
   return fixed::multiplier_ratio(static_cast<uint32_t>(ki_q16), uint32_t{period_ms} * 8224, 125UL << 16);
 }
 fixed::Multiplier kd_multiplier(int32_t kd_q16, uint16_t period_ms) {  // Kd/(ms/1000)·257
@@ -64,7 +65,8 @@ void Pid::configure(const PidGains& gains, uint16_t period_ms, uint16_t derivati
 void Pid::set_feedforward(uint16_t duty_q16) {
   // I + F moves with F; where that leaves 0..100 % the clamp takes it from I (anti-windup).
   const bool down = duty_q16 < feedforward_q16_;
-  move_integrator(static_cast<uint32_t>(down ? feedforward_q16_ - duty_q16 : duty_q16 - feedforward_q16_) << 16, down);
+  const uint16_t change_q16 = down ? feedforward_q16_ - duty_q16 : duty_q16 - feedforward_q16_;
+  move_integrator(static_cast<uint32_t>(change_q16) << 16, down);
   feedforward_q16_ = duty_q16;
 }
 
@@ -72,7 +74,8 @@ void Pid::move_integrator(uint32_t magnitude_q32, bool down) {  // magnitude ≤
   if (down) {
     integrator_q32_ = integrator_q32_ > magnitude_q32 ? integrator_q32_ - magnitude_q32 : 0;
   } else {
-    integrator_q32_ = integrator_q32_ < kFullQ32 - magnitude_q32 ? integrator_q32_ + magnitude_q32 : kFullQ32;
+    const uint32_t room_q32 = kFullQ32 - integrator_q32_;
+    integrator_q32_ = magnitude_q32 < room_q32 ? integrator_q32_ + magnitude_q32 : kFullQ32;
   }
 }
 
@@ -95,19 +98,21 @@ uint16_t Pid::step(int32_t target_q8, int32_t measured_q8) {
   // Magnitudes (q24; full power ≈ 2^24): |P| ≤ 2^30, |D| ≤ 2^29, I + F within 0..2^24, so every
   // sum below stays inside int32.
   const int32_t error_q8 = target_q8 - measured_q8;
-  const int32_t p = fixed::mul_round(fixed::clamp(error_q8, -p_error_limit_q8_, p_error_limit_q8_), kp_);
+  const int32_t p_q24 = fixed::mul_round(fixed::clamp(error_q8, -p_error_limit_q8_, p_error_limit_q8_), kp_);
 
   if (!have_previous_) {
     previous_q8_ = measured_q8;
     have_previous_ = true;
   }
-  const int32_t change_q8 = fixed::clamp(measured_q8 - previous_q8_, -d_change_limit_q8_, d_change_limit_q8_);
+  const int32_t change_q8 =
+      fixed::clamp(measured_q8 - previous_q8_, -d_change_limit_q8_, d_change_limit_q8_);
   previous_q8_ = measured_q8;
   derivative_q24_ += fixed::mul_q16(-fixed::mul_round(change_q8, kd_) - derivative_q24_, alpha_q16_);
 
-  const int32_t pd_q24 = p + derivative_q24_;
+  const int32_t pd_q24 = p_q24 + derivative_q24_;
   if (bumpless_pending_) {
-    integrator_q32_ = static_cast<uint32_t>(fixed::clamp(bumpless_q24_ - pd_q24, int32_t{0}, kFullQ24)) << 8;
+    const int32_t i_q24 = fixed::clamp(bumpless_q24_ - pd_q24, int32_t{0}, kFullQ24);
+    integrator_q32_ = static_cast<uint32_t>(i_q24) << 8;
     bumpless_pending_ = false;
   }
 
@@ -115,8 +120,11 @@ uint16_t Pid::step(int32_t target_q8, int32_t measured_q8) {
   const int32_t increment_q32 =
       fixed::mul_round(fixed::clamp(error_q8, -i_error_limit_q8_, i_error_limit_q8_), ki_);
   const int32_t before_q24 = pd_q24 + static_cast<int32_t>(integrator_q32_ >> 8);
-  if (increment_q32 > 0 && before_q24 < kFullQ24) move_integrator(static_cast<uint32_t>(increment_q32), false);
-  if (increment_q32 < 0 && before_q24 > 0) move_integrator(static_cast<uint32_t>(-increment_q32), true);
+  if (increment_q32 > 0 && before_q24 < kFullQ24) {
+    move_integrator(static_cast<uint32_t>(increment_q32), false);
+  } else if (increment_q32 < 0 && before_q24 > 0) {
+    move_integrator(static_cast<uint32_t>(-increment_q32), true);
+  }
 
   const int32_t out_q24 = pd_q24 + static_cast<int32_t>(fixed::shr_round(integrator_q32_, 8));
   return static_cast<uint16_t>(fixed::shr_round(fixed::clamp(out_q24, int32_t{0}, kFullQ24), 8));

@@ -88,15 +88,17 @@ class Pid final : public Controller {
   fixed::Multiplier kp_{0, 0};           // q24 per temp_q8 of error: Kp·257
   fixed::Multiplier ki_{0, 0};           // q32 per temp_q8 of error per sample: Ki·h·257·256
   fixed::Multiplier kd_{0, 0};           // q24 per temp_q8 of measurement change per sample: Kd/h·257
-  int32_t p_error_limit_q8_ = 0;         // |e| clamp: |P| ≤ 2^30 q24 (64× full power: saturated anyway)
-  int32_t i_error_limit_q8_ = 0;         // |e| clamp: |increment| ≤ 2^29 q32 (⅛ of full power per sample)
-  int32_t d_change_limit_q8_ = 0;        // |Δmeasured| clamp: |raw D| ≤ 2^29 q24
+  // Input clamps that keep products in int32; each binds only where its term is already far
+  // beyond full power (P: 64×, raw D: 32×) or one sample's increment exceeds ⅛ of full power.
+  int32_t p_error_limit_q8_ = 0;         // |e| for P: |P| ≤ 2^30 q24
+  int32_t i_error_limit_q8_ = 0;         // |e| for I: |increment| ≤ 2^29 q32
+  int32_t d_change_limit_q8_ = 0;        // |Δmeasured| for D: |raw D| ≤ 2^29 q24
   uint32_t integrator_q32_ = 0;          // I + F, 0..kFullQ32
   int32_t derivative_q24_ = 0;           // filtered D
   uint16_t feedforward_q16_ = 0;         // F as duty_q16
   int32_t previous_q8_ = 0;              // last measurement, temp_q8
   int32_t bumpless_q24_ = 0;             // output to continue from at the next step
-  bool have_previous_ = false;           // false until the first step after reset(): no D from nothing
+  bool have_previous_ = false;           // false until the first step after reset(): no D from it
   bool bumpless_pending_ = false;
 };
 

@@ -42,7 +42,8 @@ constexpr BasicSensor<Real> steinhart_hart_fit(cxmath::NoDeduce<Real> t1_c, cxma
 template <class Real = double>
 constexpr BasicSensor<Real> beta_model(cxmath::NoDeduce<Real> t0_c, cxmath::NoDeduce<Real> r0_ohm,
                                        cxmath::NoDeduce<Real> beta_k) {
-  return BasicSensor<Real>{1 / (t0_c + Real(kZeroCelsiusK)) - cxmath::ln<Real>(r0_ohm) / beta_k, 1 / beta_k, 0};
+  const Real a = 1 / (t0_c + Real(kZeroCelsiusK)) - cxmath::ln<Real>(r0_ohm) / beta_k;
+  return BasicSensor<Real>{a, 1 / beta_k, 0};
 }
 
 // EPCOS (TDK) B57560G104F, 100 kΩ at 25 °C, three points of the maker's R/T table

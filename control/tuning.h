@@ -104,7 +104,10 @@ inline Fopdt fit_fopdt_two_point(const std::vector<double>& time_s, const std::v
   auto at = [&](double t) {  // linear interpolation, clamped to the record
     if (t <= time_s[0]) return temp_c[0];
     for (std::size_t i = 1; i < n; ++i) {
-      if (t <= time_s[i]) return temp_c[i - 1] + (temp_c[i] - temp_c[i - 1]) * (t - time_s[i - 1]) / (time_s[i] - time_s[i - 1]);
+      if (t <= time_s[i]) {
+        const double w = (t - time_s[i - 1]) / (time_s[i] - time_s[i - 1]);
+        return temp_c[i - 1] + (temp_c[i] - temp_c[i - 1]) * w;
+      }
     }
     return temp_c[n - 1];
   };

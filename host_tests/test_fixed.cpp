@@ -1,10 +1,10 @@
 // Fixed-point helpers against exact (64-bit / double) arithmetic.
-#include "control/fixed.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
+
+#include "control/fixed.h"
 
 namespace {
 
@@ -31,8 +31,8 @@ TEST(Fixed, SaturatingAddNeverWraps) {
 }
 
 TEST(Fixed, RoundingShiftRoundsToNearestHalvesUp) {
-  EXPECT_EQ(fixed::shr_round(int32_t{383}, 8), 1);   // 1.496
-  EXPECT_EQ(fixed::shr_round(int32_t{384}, 8), 2);   // 1.5
+  EXPECT_EQ(fixed::shr_round(int32_t{383}, 8), 1);  // 1.496
+  EXPECT_EQ(fixed::shr_round(int32_t{384}, 8), 2);  // 1.5
   EXPECT_EQ(fixed::shr_round(int32_t{-383}, 8), -1);
   EXPECT_EQ(fixed::shr_round(int32_t{-384}, 8), -1);  // -1.5 rounds up
   EXPECT_EQ(fixed::shr_round(int32_t{-385}, 8), -2);
@@ -50,8 +50,8 @@ TEST(Fixed, WideningMultiplies) {
 }
 
 TEST(Fixed, MulQ16IsExactFloorOverTheWholeRange) {
-  const int32_t xs[] = {INT32_MIN, INT32_MIN + 1, -65537, -65536, -65535, -1, 0, 1, 65535, 65536,
-                        123456789, -987654321, INT32_MAX - 1, INT32_MAX};
+  const int32_t xs[] = {INT32_MIN, INT32_MIN + 1, -65537,    -65536,     -65535,        -1,       0, 1,
+                        65535,     65536,         123456789, -987654321, INT32_MAX - 1, INT32_MAX};
   const uint16_t as[] = {0, 1, 2, 32767, 32768, 40000, 65534, 65535};
   for (int32_t x : xs) {
     for (uint16_t a : as) {
@@ -63,7 +63,8 @@ TEST(Fixed, MulQ16IsExactFloorOverTheWholeRange) {
 }
 
 TEST(Fixed, MulQ16RoundIsExactRoundHalfUp) {
-  const int32_t xs[] = {INT32_MIN + 32768, -65537, -65536, -3, -1, 0, 1, 3, 65535, 123456789, INT32_MAX - 65536};
+  const int32_t xs[] = {INT32_MIN + 32768, -65537,           -65536, -3, -1, 0, 1, 3, 65535,
+                        123456789,         INT32_MAX - 65536};
   const uint16_t as[] = {0, 1, 32768, 40000, 65535};
   for (int32_t x : xs) {
     for (uint16_t a : as) {
@@ -75,7 +76,9 @@ TEST(Fixed, MulQ16RoundIsExactRoundHalfUp) {
 }
 
 TEST(Fixed, MultiplierRatioIsNearestAndAppliesExactly) {
-  struct Case { uint32_t a, b, c; };
+  struct Case {
+    uint32_t a, b, c;
+  };
   const Case cases[] = {{1454899, 257, 65536},          // Kp 22.2 → q24 per q8
                         {897, 128 * 2056, 125u << 16},  // Ki 0.0137 at 128 ms → q30 per q8 per sample
                         {7471104, 257000, 128u << 16},  // Kd 114 at 128 ms

@@ -1,9 +1,9 @@
 // The fixed-point PID's individual properties, sample by sample (closed loop: test_pid_closed_loop).
-#include "control/pid.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
+
+#include "control/pid.h"
 
 namespace {
 
@@ -14,7 +14,8 @@ constexpr uint16_t kPeriodMs = 128;
 constexpr int32_t kQ8 = 256;  // 1 °C in temp_q8
 
 PidGains gains(double kp, double ki, double kd) {
-  return {int32_t(std::lround(kp * 65536)), int32_t(std::lround(ki * 65536)), int32_t(std::lround(kd * 65536))};
+  return {int32_t(std::lround(kp * 65536)), int32_t(std::lround(ki * 65536)),
+          int32_t(std::lround(kd * 65536))};
 }
 
 Pid configured(double kp, double ki, double kd, uint16_t filter_ms = Pid::kDefaultDerivativeFilterMs) {
@@ -34,11 +35,11 @@ TEST(Pid, GainsRoundTripBitForBit) {
 }
 
 TEST(Pid, ValidAcceptsUsefulGainsAndRejectsTheRest) {
-  EXPECT_TRUE(Pid::valid(gains(22.2, 1.08, 114), kPeriodMs));    // Marlin's stock hotend gains
-  EXPECT_TRUE(Pid::valid(gains(0.33, 0.0137, 2), kPeriodMs));    // slow FOPDT plant
-  EXPECT_TRUE(Pid::valid(gains(30.43, 3.27, 70.83), kPeriodMs)); // seed 003's autotune result
-  EXPECT_TRUE(Pid::valid(gains(0, 0, 0), kPeriodMs));            // all off is representable
-  EXPECT_TRUE(Pid::valid(gains(1000, 100, 10000), kPeriodMs));   // the limits themselves
+  EXPECT_TRUE(Pid::valid(gains(22.2, 1.08, 114), kPeriodMs));     // Marlin's stock hotend gains
+  EXPECT_TRUE(Pid::valid(gains(0.33, 0.0137, 2), kPeriodMs));     // slow FOPDT plant
+  EXPECT_TRUE(Pid::valid(gains(30.43, 3.27, 70.83), kPeriodMs));  // seed 003's autotune result
+  EXPECT_TRUE(Pid::valid(gains(0, 0, 0), kPeriodMs));             // all off is representable
+  EXPECT_TRUE(Pid::valid(gains(1000, 100, 10000), kPeriodMs));    // the limits themselves
   EXPECT_TRUE(Pid::valid(gains(1000, 100, 10000), Pid::kMinPeriodMs));
   EXPECT_TRUE(Pid::valid(gains(1000, 100, 10000), Pid::kMaxPeriodMs));
 
@@ -75,8 +76,8 @@ TEST(Pid, ProportionalTermIsInMarlinUnits) {
 
 TEST(Pid, OutputIsClampedToZeroAndFullPower) {
   Pid pid = configured(50, 2, 100);
-  EXPECT_EQ(pid.step(250 * kQ8, 20 * kQ8), 65535);   // huge positive error
-  EXPECT_EQ(pid.step(20 * kQ8, 250 * kQ8), 0);       // huge negative error (and falling fast)
+  EXPECT_EQ(pid.step(250 * kQ8, 20 * kQ8), 65535);  // huge positive error
+  EXPECT_EQ(pid.step(20 * kQ8, 250 * kQ8), 0);      // huge negative error (and rising fast)
   pid.set_feedforward(65535);
   EXPECT_EQ(pid.step(250 * kQ8, 20 * kQ8), 65535);
   Pid extreme = configured(1000, 100, 10000);
@@ -171,7 +172,8 @@ TEST(Pid, ResetForgetsHistoryButNotGains) {
   for (int n = 0; n < 100; ++n) pid.step(200 * kQ8, (150 + n / 4) * kQ8);
   pid.reset();
   Pid fresh = configured(5, 1, 50);
-  for (int n = 0; n < 10; ++n) EXPECT_EQ(pid.step(200 * kQ8, 190 * kQ8 + n), fresh.step(200 * kQ8, 190 * kQ8 + n));
+  for (int n = 0; n < 10; ++n)
+    EXPECT_EQ(pid.step(200 * kQ8, 190 * kQ8 + n), fresh.step(200 * kQ8, 190 * kQ8 + n));
 }
 
 TEST(Pid, RetuningAtSteadyStateDoesNotBump) {

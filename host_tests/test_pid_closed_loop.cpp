@@ -1,8 +1,5 @@
 // The fixed-point PID against a double-precision implementation of the same algorithm, in closed
 // loop on plant models, plus the behaviour that only shows over a whole heat-up (anti-windup).
-#include "control/fixed.h"
-#include "control/pid.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +7,9 @@
 #include <cstdio>
 #include <deque>
 #include <vector>
+
+#include "control/fixed.h"
+#include "control/pid.h"
 
 namespace {
 
@@ -22,7 +22,11 @@ constexpr double kAmbientC = 25.0;
 class ReferencePid {
  public:
   ReferencePid(double kp, double ki, double kd, double period_s, double filter_s, bool anti_windup = true)
-      : kp_(kp / 255), ki_(ki / 255), kd_(kd / 255), h_(period_s), alpha_(period_s / (filter_s + period_s)),
+      : kp_(kp / 255),
+        ki_(ki / 255),
+        kd_(kd / 255),
+        h_(period_s),
+        alpha_(period_s / (filter_s + period_s)),
         anti_windup_(anti_windup) {}
   void set_feedforward(double duty) { ff_ = duty; }
   double step(double target_c, double measured_c) {
@@ -86,7 +90,9 @@ class Fopdt {
     const double delay_periods = 20.7 / seconds;
     const size_t whole = static_cast<size_t>(delay_periods);
     const double frac = delay_periods - whole;  // the delayed input switches inside this period
-    auto past = [this](size_t back) { return back < history_.size() ? history_[history_.size() - 1 - back] : 0.0; };
+    auto past = [this](size_t back) {
+      return back < history_.size() ? history_[history_.size() - 1 - back] : 0.0;
+    };
     const double a = std::exp(-seconds * frac / 24.0), b = std::exp(-seconds * (1 - frac) / 24.0);
     const double first = past(whole + 1), second = past(whole);  // inputs during each part
     temp_c_ = kAmbientC + (temp_c_ - kAmbientC) * a + 450.0 * first * (1 - a);
@@ -106,11 +112,13 @@ struct Trajectory {
 };
 
 control::PidGains q16_gains(double kp, double ki, double kd) {
-  return {int32_t(std::lround(kp * 65536)), int32_t(std::lround(ki * 65536)), int32_t(std::lround(kd * 65536))};
+  return {int32_t(std::lround(kp * 65536)), int32_t(std::lround(ki * 65536)),
+          int32_t(std::lround(kd * 65536))};
 }
 
 // Closed loop: `controller(measured_c)` returns a duty 0..1 for the next period.
-template <class Plant, class Controller> Trajectory run(Plant plant, Controller controller, double seconds) {
+template <class Plant, class Controller>
+Trajectory run(Plant plant, Controller controller, double seconds) {
   Trajectory t;
   for (int k = 0; k < int(seconds / kPeriodS); ++k) {
     const double duty = controller(plant.sensor_c());
@@ -129,9 +137,12 @@ Trajectory run_fixed(Plant plant, double kp, double ki, double kd, double target
   EXPECT_TRUE(control::Pid::valid(g, kPeriodMs));
   pid.configure(g, kPeriodMs);
   const int32_t target_q8 = int32_t(std::lround(target_c * 256));
-  return run(plant, [&](double measured_c) {
-    return pid.step(target_q8, int32_t(std::lround(measured_c * 256))) / 65535.0;
-  }, seconds);
+  return run(
+      plant,
+      [&](double measured_c) {
+        return pid.step(target_q8, int32_t(std::lround(measured_c * 256))) / 65535.0;
+      },
+      seconds);
 }
 
 // `quantized`: the reference reads the same 1/256 °C steps as the fixed point, which leaves
@@ -140,9 +151,12 @@ template <class Plant>
 Trajectory run_reference(Plant plant, double kp, double ki, double kd, double target_c, double seconds,
                          bool anti_windup = true, bool quantized = false) {
   ReferencePid pid(kp, ki, kd, kPeriodS, control::Pid::kDefaultDerivativeFilterMs / 1000.0, anti_windup);
-  return run(plant, [&](double measured_c) {
-    return pid.step(target_c, quantized ? std::round(measured_c * 256) / 256 : measured_c);
-  }, seconds);
+  return run(
+      plant,
+      [&](double measured_c) {
+        return pid.step(target_c, quantized ? std::round(measured_c * 256) / 256 : measured_c);
+      },
+      seconds);
 }
 
 struct Deviation {
@@ -163,12 +177,14 @@ constexpr double kHotendKp = 22.2, kHotendKi = 1.08, kHotendKd = 114.0;
 TEST(PidClosedLoop, MatchesDoubleReferenceOnHotend40w) {
   const Trajectory fixed = run_fixed(TwoNodeHotend{}, kHotendKp, kHotendKi, kHotendKd, 210.0, 600.0);
   const Trajectory ref = run_reference(TwoNodeHotend{}, kHotendKp, kHotendKi, kHotendKd, 210.0, 600.0);
-  const Trajectory ref_q = run_reference(TwoNodeHotend{}, kHotendKp, kHotendKi, kHotendKd, 210.0, 600.0, true, true);
+  const Trajectory ref_q =
+      run_reference(TwoNodeHotend{}, kHotendKp, kHotendKi, kHotendKd, 210.0, 600.0, true, true);
   const Deviation d = deviation(fixed, ref);
   const Deviation dq = deviation(fixed, ref_q);
-  std::printf("hotend40w 25→210 °C, 600 s: max |ΔT| %.4f °C, max |Δduty| %.3f %% (same 1/256 °C input: "
-              "%.5f °C, %.4f %%), overshoot %.2f °C\n",
-              d.temp_c, 100 * d.duty, dq.temp_c, 100 * dq.duty, fixed.max_c - 210.0);
+  std::printf(
+      "hotend40w 25→210 °C, 600 s: max |ΔT| %.4f °C, max |Δduty| %.3f %% (same 1/256 °C input: "
+      "%.5f °C, %.4f %%), overshoot %.2f °C\n",
+      d.temp_c, 100 * d.duty, dq.temp_c, 100 * dq.duty, fixed.max_c - 210.0);
   EXPECT_LT(d.temp_c, 0.05);
   EXPECT_LT(d.duty, 0.005);
   // Arithmetic alone. (Duty still differs by one reading step, ~0.2 %, for a few samples: at
@@ -194,7 +210,8 @@ TEST(PidClosedLoop, MatchesDoubleReferenceOnSeed002Fopdt) {
 TEST(PidClosedLoop, NoWindupDuringAFullPowerHeatUp) {
   // 25 → 210 °C takes ~70 s at 100 %: a plain integrator collects that whole error and overshoots.
   const Trajectory fixed = run_fixed(TwoNodeHotend{}, kHotendKp, kHotendKi, kHotendKd, 210.0, 400.0);
-  const Trajectory windup = run_reference(TwoNodeHotend{}, kHotendKp, kHotendKi, kHotendKd, 210.0, 400.0, false);
+  const Trajectory windup =
+      run_reference(TwoNodeHotend{}, kHotendKp, kHotendKi, kHotendKd, 210.0, 400.0, false);
   const double saturated_s = kPeriodS * std::count(fixed.duty.begin(), fixed.duty.end(), 1.0);
   std::printf("heat-up: %.1f s at 100 %%; overshoot %.2f °C with anti-windup, %.2f °C without\n", saturated_s,
               fixed.max_c - 210.0, windup.max_c - 210.0);
@@ -209,12 +226,14 @@ TEST(PidClosedLoop, FeedforwardJoinsWithoutBreakingAgreementOrWindup) {
   control::Pid pid;
   pid.configure(q16_gains(kHotendKp, kHotendKi, kHotendKd), kPeriodMs);
   pid.set_feedforward(uint16_t(std::lround(ff * 65535)));
-  ReferencePid ref(kHotendKp, kHotendKi, kHotendKd, kPeriodS, control::Pid::kDefaultDerivativeFilterMs / 1000.0);
+  ReferencePid ref(kHotendKp, kHotendKi, kHotendKd, kPeriodS,
+                   control::Pid::kDefaultDerivativeFilterMs / 1000.0);
   ref.set_feedforward(std::lround(ff * 65535) / 65535.0);
-  const Trajectory a = run(TwoNodeHotend{}, [&](double m) {
-    return pid.step(210 * 256, int32_t(std::lround(m * 256))) / 65535.0;
-  }, 600.0);
-  const Trajectory b = run(TwoNodeHotend{}, [&](double m) { return ref.step(210.0, m); }, 600.0);
+  const Trajectory a = run(
+      TwoNodeHotend{}, [&](double m) { return pid.step(210 * 256, int32_t(std::lround(m * 256))) / 65535.0; },
+      600.0);
+  const Trajectory b = run(
+      TwoNodeHotend{}, [&](double m) { return ref.step(210.0, m); }, 600.0);
   const Deviation d = deviation(a, b);
   EXPECT_LT(d.temp_c, 0.05);
   EXPECT_LT(d.duty, 0.005);

@@ -1,10 +1,10 @@
 // The compile-time thermistor table and its interpolated lookup, against the exact double model.
-#include "control/thermistor.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+
+#include "control/thermistor.h"
 
 namespace {
 
@@ -14,7 +14,8 @@ using thermistor::Table;
 constexpr int kN = thermistor::kDefaultTableSize;
 constexpr uint32_t kPullupOhm = 4700;  // both boards (issue 2)
 
-template <int N> int32_t lookup(const Table<N>& t, uint16_t adc_q6) {
+template <int N>
+int32_t lookup(const Table<N>& t, uint16_t adc_q6) {
   return thermistor::adc_q6_to_temp_q8([&t](uint8_t i) { return t.entry[i]; }, N, adc_q6);
 }
 
@@ -23,7 +24,8 @@ double exact_c(const Sensor& s, double adc_q6) {
 }
 
 // Worst |lookup − exact| (°C) over every adc_q6 whose exact temperature lies in 0–300 °C.
-template <int N> double worst_error_c(const Table<N>& t, const Sensor& s) {
+template <int N>
+double worst_error_c(const Table<N>& t, const Sensor& s) {
   const double q_cold = 64 * thermistor::divider_adc_code(thermistor::resistance_ohm(s, 0.0), kPullupOhm);
   const double q_hot = 64 * thermistor::divider_adc_code(thermistor::resistance_ohm(s, 300.0), kPullupOhm);
   double worst = 0;
@@ -39,7 +41,8 @@ constexpr Table<kN> kSemitecTable = thermistor::make_table<kN>(thermistor::kSemi
 // The same tables computed in 32-bit float, as avr-gcc 5.4 (double = IEEE single) computes them.
 // Checked once: bit-identical to the tables in an avr-g++ -mmcu=atmega2560 image (see report).
 constexpr Table<kN> kEpcosTableAvr = thermistor::make_table<kN>(thermistor::epcos100k<float>(), kPullupOhm);
-constexpr Table<kN> kSemitecTableAvr = thermistor::make_table<kN>(thermistor::semitec104gt2<float>(), kPullupOhm);
+constexpr Table<kN> kSemitecTableAvr =
+    thermistor::make_table<kN>(thermistor::semitec104gt2<float>(), kPullupOhm);
 
 static_assert(kEpcosTable.entry[0].adc_q6 < kEpcosTable.entry[kN - 1].adc_q6, "hottest entry first");
 

@@ -1,9 +1,9 @@
 // The exact (double) thermistor and divider models, and the constexpr ln/exp under them.
-#include "control/thermistor_math.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
+
+#include "control/thermistor_math.h"
 
 namespace {
 

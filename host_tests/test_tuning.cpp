@@ -1,10 +1,10 @@
 // FOPDT tuning rules against values worked out by hand, and the two-point identification.
-#include "control/tuning.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
+
+#include "control/tuning.h"
 
 namespace {
 
@@ -104,7 +104,7 @@ TEST(Tuning, TwoPointFitWorksOnACoolingStepAndSeedStyleSampling) {
 TEST(Tuning, TwoPointFitReportsAResponseItCannotUse) {
   const std::vector<double> t{0, 10, 20, 30};
   EXPECT_EQ(tuning::fit_fopdt_two_point(t, {25, 25, 25, 25}, 0.0, 1.0).t_s, 0.0);  // no response
-  EXPECT_EQ(tuning::fit_fopdt_two_point({0}, {25}, 0.0, 1.0).t_s, 0.0);             // no record
+  EXPECT_EQ(tuning::fit_fopdt_two_point({0}, {25}, 0.0, 1.0).t_s, 0.0);            // no record
 }
 
 }  // namespace

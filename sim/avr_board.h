@@ -12,18 +12,13 @@
 #include <vector>
 
 #include "sim/board_spec.h"
+#include "sim/firmware_image.h"
 #include "sim/pin_meter.h"
 
 struct avr_t;
 struct avr_irq_t;
 
 namespace sim {
-
-// Program and data memory the image uses, as avr-size counts them (text+data, data+bss).
-struct ImageSize {
-  uint32_t flash_bytes = 0;
-  uint32_t ram_bytes = 0;
-};
 
 // CPU cycles between the firmware's GPIOR0 := 1 and GPIOR0 := 0 writes (one control step,
 // including any tick interrupt that preempts it, as on silicon).

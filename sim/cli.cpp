@@ -3,13 +3,12 @@
 #include <algorithm>
 #include <cstdlib>
 #include <iostream>
-#include <map>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "sim/bench.h"
+#include "sim/cli_args.h"
 #include "sim/default_gains.h"
 #include "sim/report.h"
 #include "sim/sim_run.h"
@@ -38,110 +37,11 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the unti
   the plant's FOPDT approximation (see `list`), ELF from this build's firmware directory.
   --fault: thermistor open/short or a D0 hang T s after t0; the run ends 5 s after it.
   --check: exit 1 (listing what failed) unless the run meets the HIL limits.
-bench: every board × plant (or the given ones) at the plant's default target and duration (or
-  --target/--seconds for all), in
-  parallel; prints one table (disturbance columns when --gcode has a timed command) and, under
-  it, every problem or Error: line. Each --variant runs the grid again with its G-code.
+bench: every board × plant (or the given ones) in parallel, at each plant's default target and
+  duration (or --target/--seconds for all); prints one table (with disturbance columns when
+  --gcode has a timed command) and under it every problem or Error: line. Each --variant runs
+  the grid again with its untimed G-code (e.g. a controller choice or its own M301).
 )";
-
-std::vector<std::string> split(const std::string& text, char separator) {
-  std::vector<std::string> parts;
-  std::stringstream in(text);
-  for (std::string part; std::getline(in, part, separator);) parts.push_back(part);
-  return parts;
-}
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t");
-  const auto e = s.find_last_not_of(" \t");
-  return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
-}
-
-double parse_number(const std::string& text, const std::string& what) {
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0') throw std::invalid_argument(what + ": not a number: \"" + text + "\"");
-  return v;
-}
-
-MarlinGains parse_gains(const std::string& text) {
-  const std::vector<std::string> parts = split(text, ',');
-  if (parts.size() != 3) throw std::invalid_argument("--gains wants P,I,D");
-  return MarlinGains{parse_number(parts[0], "--gains P"), parse_number(parts[1], "--gains I"),
-                     parse_number(parts[2], "--gains D")};
-}
-
-// "M301 P1 I2 D3;M106 S255@120" → {M301..., untimed}, {M106 S255, at 120 s}.
-std::vector<TimedCommand> parse_gcode(const std::string& text) {
-  std::vector<TimedCommand> commands;
-  for (const std::string& item : split(text, ';')) {
-    std::string line = trim(item);
-    if (line.empty()) continue;
-    TimedCommand c;
-    const auto at = line.rfind('@');
-    if (at != std::string::npos) {
-      c.at_s = parse_number(trim(line.substr(at + 1)), "--gcode time");
-      line = trim(line.substr(0, at));
-    }
-    c.line = line;
-    commands.push_back(c);
-  }
-  return commands;
-}
-
-void parse_fault(const std::string& text, RunConfig& config) {
-  const auto at = text.find('@');
-  if (at == std::string::npos) throw std::invalid_argument("--fault wants KIND@SECONDS");
-  const std::string kind = text.substr(0, at);
-  if (kind == "open") config.fault = FaultKind::kOpen;
-  else if (kind == "short") config.fault = FaultKind::kShort;
-  else if (kind == "hang") config.fault = FaultKind::kHang;
-  else throw std::invalid_argument("--fault: unknown kind \"" + kind + "\" (open, short, hang)");
-  config.fault_at_s = parse_number(text.substr(at + 1), "--fault time");
-}
-
-// --name value / --name=value pairs and bare flags.
-struct Options {
-  std::map<std::string, std::vector<std::string>> values;  // every occurrence, in order
-  std::vector<std::string> flags;
-  bool has(const std::string& name) const {
-    return values.count(name) || std::find(flags.begin(), flags.end(), name) != flags.end();
-  }
-  // The last occurrence wins.
-  std::string get(const std::string& name, const std::string& fallback = "") const {
-    auto it = values.find(name);
-    return it == values.end() ? fallback : it->second.back();
-  }
-  std::vector<std::string> all(const std::string& name) const {
-    auto it = values.find(name);
-    return it == values.end() ? std::vector<std::string>{} : it->second;
-  }
-};
-
-Options parse_options(const std::vector<std::string>& args, const std::vector<std::string>& flag_names) {
-  Options o;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    std::string name = args[i];
-    if (name.rfind("--", 0) != 0) throw std::invalid_argument("unexpected argument \"" + name + "\"");
-    name = name.substr(2);
-    const auto eq = name.find('=');
-    if (eq != std::string::npos) {
-      o.values[name.substr(0, eq)].push_back(name.substr(eq + 1));
-    } else if (std::find(flag_names.begin(), flag_names.end(), name) != flag_names.end()) {
-      o.flags.push_back(name);
-    } else {
-      if (i + 1 >= args.size()) throw std::invalid_argument("--" + name + " needs a value");
-      o.values[name].push_back(args[++i]);
-    }
-  }
-  return o;
-}
-
-void reject_unknown(const Options& o, const std::vector<std::string>& known) {
-  for (const auto& [name, value] : o.values)
-    if (std::find(known.begin(), known.end(), name) == known.end())
-      throw std::invalid_argument("unknown option --" + name);
-}
 
 std::string default_elf_path(const std::string& dir, const BoardSpec& board) {
   return dir + "/firmware-" + board.id + ".elf";

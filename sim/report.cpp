@@ -125,7 +125,7 @@ std::vector<std::string> failed_checks(const RunResult& r, const CheckLimits& li
     require(f.restarted, "no `start` after the watchdog reset");
     require(!f.heater_on_after_reset, "the heater came on after the watchdog reset");
   } else {
-    require(!f.heater_last_on_s || *f.heater_last_on_s <= limits.max_heater_off_s,
+    require(f.heater_last_on_s && *f.heater_last_on_s <= limits.max_heater_off_s,
             "heater still on " + format_optional(f.heater_last_on_s, 3) + " s after the fault");
     require(f.error_line_s.has_value(), "no `Error:" + f.expected_error + "` line");
     require(r.resets == 0, "the CPU was reset during the run");

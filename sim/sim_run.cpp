@@ -36,14 +36,6 @@ std::string format_target(double target_c) {
   return text;
 }
 
-const char* expected_error(FaultKind kind) {
-  switch (kind) {
-    case FaultKind::kOpen: return "MINTEMP";   // open thermistor reads as very cold
-    case FaultKind::kShort: return "MAXTEMP";  // shorted thermistor reads as very hot
-    default: return "";
-  }
-}
-
 class Runner {
  public:
   explicit Runner(const RunConfig& config);
@@ -73,8 +65,8 @@ class Runner {
   double next_m105_s_ = 0.0;
   double target_sent_c_ = 0.0;
   std::optional<double> fault_abs_s_;
-  std::vector<double> reset_times_s_;
-  uint64_t heater_turn_ons_at_fault_reset_ = 0;  // heater().turn_on_count() right after it
+  std::optional<double> reset_after_fault_s_;    // first CPU reset after the fault
+  uint64_t heater_turn_ons_at_that_reset_ = 0;  // heater().turn_on_count() right after it
   std::deque<std::pair<double, double>> recent_true_;  // (t, true °C) over kReportLatencyS
   // Trace accumulators over one sample period.
   int trace_steps_ = 0;
@@ -110,8 +102,9 @@ Runner::Runner(const RunConfig& config)
 
   board_.every(kPlantStepUs, [this] { on_plant_step(); });
   board_.on_reset([this] {
-    reset_times_s_.push_back(board_.time_s());
-    heater_turn_ons_at_fault_reset_ = board_.heater().turn_on_count();
+    if (!fault_abs_s_ || reset_after_fault_s_) return;
+    reset_after_fault_s_ = board_.time_s();
+    heater_turn_ons_at_that_reset_ = board_.heater().turn_on_count();
   });
   session_.on_line([this](const ReplyLine& line) { on_line(line); });
 }
@@ -244,30 +237,15 @@ void Runner::finish() {
   result_.metrics = compute_metrics(result_.trace, t0, config_.target_c, split_s);
 
   if (config_.fault != FaultKind::kNone && fault_abs_s_) {
-    FaultOutcome f;
-    const double tf = *fault_abs_s_;
-    // The pin meter knows the exact cycle of the last change: if the heater is off now, that
-    // was when it went off.
     const PinMeter& heater = board_.heater();
-    f.heater_on_at_end = heater.is_on();
-    if (!f.heater_on_at_end)
-      f.heater_last_on_s = std::max(0.0, double(heater.last_change_cycle()) / board_.frequency_hz() - tf);
-    f.expected_error = expected_error(config_.fault);
-    for (const ReplyLine& line : session_.lines())
-      if (line.t_s >= tf && !f.expected_error.empty() && line.text.rfind("Error:", 0) == 0 &&
-          line.text.find(f.expected_error) != std::string::npos) {
-        f.error_line_s = line.t_s - tf;
-        break;
-      }
-    for (double t : reset_times_s_)
-      if (t >= tf) {
-        f.reset_s = t - tf;
-        break;
-      }
-    f.restarted = f.reset_s && session_.boot_count() >= 2;
-    f.heater_on_after_reset =
-        f.reset_s && (f.heater_on_at_end || heater.turn_on_count() > heater_turn_ons_at_fault_reset_);
-    result_.fault = f;
+    FaultRecord record;
+    record.kind = config_.fault;
+    record.fault_s = *fault_abs_s_;
+    record.heater_on_at_end = heater.is_on();
+    record.heater_last_change_s = double(heater.last_change_cycle()) / board_.frequency_hz();
+    record.reset_s = reset_after_fault_s_;
+    record.heater_turned_on_after_reset = heater.turn_on_count() > heater_turn_ons_at_that_reset_;
+    result_.fault = evaluate_fault(record, session_.lines());
   }
   if (!config_.csv_path.empty()) write_trace_csv(config_.csv_path, result_.trace);
 }

@@ -10,6 +10,7 @@
 #include "sim/avr_board.h"
 #include "sim/board_spec.h"
 #include "sim/bound.h"
+#include "sim/fault_outcome.h"
 #include "sim/metrics.h"
 #include "sim/plants.h"
 
@@ -27,8 +28,6 @@ struct TimedCommand {
   std::optional<double> at_s;
 };
 
-enum class FaultKind { kNone, kOpen, kShort, kHang };
-
 struct RunConfig {
   BoardSpec board;
   PlantSpec plant;
@@ -43,17 +42,6 @@ struct RunConfig {
   FaultKind fault = FaultKind::kNone;
   double fault_at_s = 0.0;           // after the heating start
   std::string csv_path;
-};
-
-// What a fault run observed (times relative to the fault).
-struct FaultOutcome {
-  std::optional<double> heater_last_on_s;  // last moment the heater pin was on after the fault
-  bool heater_on_at_end = false;
-  std::optional<double> error_line_s;      // the expected Error: line, when it came
-  std::string expected_error;              // "" for hang
-  std::optional<double> reset_s;           // first CPU reset after the fault
-  bool restarted = false;                  // `start` printed again
-  bool heater_on_after_reset = false;
 };
 
 struct RunResult {

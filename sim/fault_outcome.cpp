@@ -1,0 +1,39 @@
+#include "sim/fault_outcome.h"
+
+#include <algorithm>
+
+namespace sim {
+namespace {
+
+const char* expected_error(FaultKind kind) {
+  switch (kind) {
+    case FaultKind::kOpen: return "MINTEMP";   // an open thermistor reads as very cold
+    case FaultKind::kShort: return "MAXTEMP";  // a shorted one as very hot
+    default: return "";
+  }
+}
+
+bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
+
+}  // namespace
+
+FaultOutcome evaluate_fault(const FaultRecord& r, const std::vector<ReplyLine>& lines) {
+  FaultOutcome f;
+  f.heater_on_at_end = r.heater_on_at_end;
+  // Off at the end: its last edge was the moment it went off.
+  if (!r.heater_on_at_end) f.heater_last_on_s = std::max(0.0, r.heater_last_change_s - r.fault_s);
+  f.expected_error = expected_error(r.kind);
+  if (r.reset_s) {
+    f.reset_s = *r.reset_s - r.fault_s;
+    f.heater_on_after_reset = r.heater_on_at_end || r.heater_turned_on_after_reset;
+  }
+  for (const ReplyLine& line : lines) {
+    if (!f.error_line_s && !f.expected_error.empty() && line.t_s >= r.fault_s && starts_with(line.text, "Error:") &&
+        line.text.find(f.expected_error) != std::string::npos)
+      f.error_line_s = line.t_s - r.fault_s;
+    if (r.reset_s && line.t_s >= *r.reset_s && line.text == "start") f.restarted = true;
+  }
+  return f;
+}
+
+}  // namespace sim

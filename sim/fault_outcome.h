@@ -1,0 +1,38 @@
+// What a fault run must show (issue 2: thermistor open/short → heater off within 1 s and the
+// error printed; a hang → watchdog reset, `start` again, heater off), judged from what the
+// harness recorded. Times are relative to the fault.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/host_session.h"
+
+namespace sim {
+
+enum class FaultKind { kNone, kOpen, kShort, kHang };
+
+struct FaultOutcome {
+  std::optional<double> heater_last_on_s;  // last moment the heater pin was on (nullopt: on at the end)
+  bool heater_on_at_end = false;
+  std::string expected_error;              // "MINTEMP"/"MAXTEMP", "" for a hang
+  std::optional<double> error_line_s;      // when the expected Error: line came
+  std::optional<double> reset_s;           // first CPU reset after the fault
+  bool restarted = false;                  // `start` printed after that reset
+  bool heater_on_after_reset = false;
+};
+
+// Raw observations of one fault run (absolute simulated times, seconds since power-on).
+struct FaultRecord {
+  FaultKind kind = FaultKind::kNone;
+  double fault_s = 0.0;
+  bool heater_on_at_end = false;
+  double heater_last_change_s = 0.0;  // the pin meter's last edge
+  std::optional<double> reset_s;      // first reset after the fault
+  bool heater_turned_on_after_reset = false;
+};
+
+FaultOutcome evaluate_fault(const FaultRecord& record, const std::vector<ReplyLine>& lines);
+
+}  // namespace sim

@@ -49,15 +49,29 @@ bool Pid::valid(const PidGains& g, uint16_t period_ms) {
          representable(g.kd_q16, kd_multiplier(g.kd_q16, period_ms));
 }
 
+PidCoefficients Pid::coefficients(const PidGains& gains, uint16_t period_ms) {
+  return PidCoefficients{fixed::without_small_fraction(kp_multiplier(gains.kp_q16)),
+                         fixed::without_small_fraction(ki_multiplier(gains.ki_q16, period_ms)),
+                         fixed::without_small_fraction(kd_multiplier(gains.kd_q16, period_ms))};
+}
+
+void Pid::set_coefficients(const PidCoefficients& c) {
+  // A smaller whole part only widens the margin of the clamps (|x|·(whole + 1) ≤ bound).
+  c_.kp = c.kp.whole > kp_ceiling_ ? fixed::Multiplier{kp_ceiling_, 0} : c.kp;
+  c_.ki = c.ki.whole > ki_ceiling_ ? fixed::Multiplier{ki_ceiling_, 0} : c.ki;
+  c_.kd = c.kd.whole > kd_ceiling_ ? fixed::Multiplier{kd_ceiling_, 0} : c.kd;
+}
+
 void Pid::configure(const PidGains& gains, uint16_t period_ms, uint16_t derivative_filter_ms) {
   gains_ = gains;
   period_ms_ = period_ms;
-  kp_ = fixed::without_small_fraction(kp_multiplier(gains.kp_q16));
-  ki_ = fixed::without_small_fraction(ki_multiplier(gains.ki_q16, period_ms));
-  kd_ = fixed::without_small_fraction(kd_multiplier(gains.kd_q16, period_ms));
-  p_error_limit_q8_ = input_limit(1UL << 30, kp_);
-  i_error_limit_q8_ = input_limit(1UL << 29, ki_);
-  d_change_limit_q8_ = input_limit(1UL << 29, kd_);
+  c_ = coefficients(gains, period_ms);
+  kp_ceiling_ = c_.kp.whole;
+  ki_ceiling_ = c_.ki.whole;
+  kd_ceiling_ = c_.kd.whole;
+  p_error_limit_q8_ = input_limit(1UL << 30, c_.kp);
+  i_error_limit_q8_ = input_limit(1UL << 29, c_.ki);
+  d_change_limit_q8_ = input_limit(1UL << 29, c_.kd);
   const uint32_t alpha = fixed::mul_div_u32(65536, period_ms, uint32_t{derivative_filter_ms} + period_ms);
   alpha_q16_ = alpha > 0xFFFF ? 0xFFFF : static_cast<uint16_t>(alpha);  // Tf = 0: α = 1 − 2^-16
 }
@@ -98,7 +112,7 @@ uint16_t Pid::step(int32_t target_q8, int32_t measured_q8) {
   // Magnitudes (q24; full power ≈ 2^24): |P| ≤ 2^30, |D| ≤ 2^29, I + F within 0..2^24, so every
   // sum below stays inside int32.
   const int32_t error_q8 = target_q8 - measured_q8;
-  const int32_t p_q24 = fixed::mul_round(fixed::clamp(error_q8, -p_error_limit_q8_, p_error_limit_q8_), kp_);
+  const int32_t p_q24 = fixed::mul_round(fixed::clamp(error_q8, -p_error_limit_q8_, p_error_limit_q8_), c_.kp);
 
   if (!have_previous_) {
     previous_q8_ = measured_q8;
@@ -107,7 +121,7 @@ uint16_t Pid::step(int32_t target_q8, int32_t measured_q8) {
   const int32_t change_q8 =
       fixed::clamp(measured_q8 - previous_q8_, -d_change_limit_q8_, d_change_limit_q8_);
   previous_q8_ = measured_q8;
-  derivative_q24_ += fixed::mul_q16(-fixed::mul_round(change_q8, kd_) - derivative_q24_, alpha_q16_);
+  derivative_q24_ += fixed::mul_q16(-fixed::mul_round(change_q8, c_.kd) - derivative_q24_, alpha_q16_);
 
   const int32_t pd_q24 = p_q24 + derivative_q24_;
   if (bumpless_pending_) {
@@ -118,7 +132,7 @@ uint16_t Pid::step(int32_t target_q8, int32_t measured_q8) {
 
   // Conditional integration: skip an increment that would drive a saturated output further.
   const int32_t increment_q32 =
-      fixed::mul_round(fixed::clamp(error_q8, -i_error_limit_q8_, i_error_limit_q8_), ki_);
+      fixed::mul_round(fixed::clamp(error_q8, -i_error_limit_q8_, i_error_limit_q8_), c_.ki);
   const int32_t before_q24 = pd_q24 + static_cast<int32_t>(integrator_q32_ >> 8);
   if (increment_q32 > 0 && before_q24 < kFullQ24) {
     move_integrator(static_cast<uint32_t>(increment_q32), false);

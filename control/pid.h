@@ -24,6 +24,13 @@ struct PidGains {
   int32_t kd_q16;  // output units per °C/s
 };
 
+// The per-sample multipliers configure() derives from gains and period (internal units below).
+struct PidCoefficients {
+  fixed::Multiplier kp;  // q24 per temp_q8 of error: Kp·257
+  fixed::Multiplier ki;  // q32 per temp_q8 of error per sample: Ki·h·257·256
+  fixed::Multiplier kd;  // q24 per temp_q8 of measurement change per sample: Kd/h·257
+};
+
 class Pid final : public Controller {
  public:
   // Derivative low-pass time constant Tf unless configure() is told otherwise: Td/N with N ≈ 5
@@ -47,9 +54,17 @@ class Pid final : public Controller {
   static bool valid(const PidGains& gains, uint16_t period_ms);
 
   // Sets gains and period (precondition: valid()). Keeps the integrator, which is stored in
-  // output units, so that changing gains while hot does not make the output jump.
+  // output units, so that changing gains while hot does not make the output jump. Set-up code:
+  // about 40,000 AVR cycles of long division.
   void configure(const PidGains& gains, uint16_t period_ms,
                  uint16_t derivative_filter_ms = kDefaultDerivativeFilterMs);
+
+  // For gain scheduling (fuzzy-PID, issue 3): the coefficients of some gains, computed at set-up
+  // time, and a per-step setter with no division. Each coefficient is capped at the one
+  // configure() set, for which the overflow clamps were computed — so configure() with the
+  // largest gains the schedule reaches. gains() keeps reporting configure()'s gains.
+  static PidCoefficients coefficients(const PidGains& gains, uint16_t period_ms);
+  void set_coefficients(const PidCoefficients& c);
 
   // One control period: returns the heater duty for the next period (duty_q16, 65535 = 100 %).
   // target_q8, measured_q8: °C × 256, each within ±2^24 (±65536 °C).
@@ -85,9 +100,10 @@ class Pid final : public Controller {
   PidGains gains_{0, 0, 0};
   uint16_t period_ms_ = 0;
   uint16_t alpha_q16_ = 0;               // derivative low-pass α = h/(Tf + h), Q16
-  fixed::Multiplier kp_{0, 0};           // q24 per temp_q8 of error: Kp·257
-  fixed::Multiplier ki_{0, 0};           // q32 per temp_q8 of error per sample: Ki·h·257·256
-  fixed::Multiplier kd_{0, 0};           // q24 per temp_q8 of measurement change per sample: Kd/h·257
+  PidCoefficients c_{{0, 0}, {0, 0}, {0, 0}};  // in use
+  uint32_t kp_ceiling_ = 0;              // whole parts configure() set: set_coefficients' caps
+  uint32_t ki_ceiling_ = 0;
+  uint32_t kd_ceiling_ = 0;
   // Input clamps that keep products in int32; each binds only where its term is already far
   // beyond full power (P: 64×, raw D: 32×) or one sample's increment exceeds ⅛ of full power.
   int32_t p_error_limit_q8_ = 0;         // |e| for P: |P| ≤ 2^30 q24

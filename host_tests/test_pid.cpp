@@ -185,6 +185,35 @@ TEST(Pid, RetuningAtSteadyStateDoesNotBump) {
   EXPECT_EQ(pid.step(200 * kQ8, 200 * kQ8), before);
 }
 
+TEST(Pid, ScheduledCoefficientsActLikeConfiguredGains) {
+  // Configured for the largest gains a schedule reaches, then switched per step without division.
+  Pid scheduled = configured(40, 3, 200);
+  const PidGains g = gains(22.2, 1.08, 114);
+  scheduled.set_coefficients(Pid::coefficients(g, kPeriodMs));
+  Pid plain;
+  plain.configure(g, kPeriodMs);
+  for (int n = 0; n < 200; ++n) {
+    const int32_t m = (150 + n / 3) * kQ8 + 37 * (n % 5);
+    ASSERT_EQ(scheduled.step(210 * kQ8, m), plain.step(210 * kQ8, m)) << n;
+  }
+}
+
+TEST(Pid, ScheduledCoefficientsAreCappedAtTheConfiguredOnes) {
+  // Beyond configure()'s coefficients the overflow clamps would not hold: capped instead. These
+  // gains map to whole-number coefficients (Kp·257, Ki·h·257·256, Kd/h·257 ≥ 1024), so the cap
+  // reproduces them exactly.
+  const PidGains g = gains(22.2, 1.08, 114);
+  Pid capped;
+  capped.configure(g, kPeriodMs);
+  capped.set_coefficients(Pid::coefficients(gains(900, 90, 9000), kPeriodMs));
+  Pid plain;
+  plain.configure(g, kPeriodMs);
+  for (int n = 0; n < 200; ++n) {
+    const int32_t m = (25 + n) * kQ8;
+    ASSERT_EQ(capped.step(210 * kQ8, m), plain.step(210 * kQ8, m)) << n;
+  }
+}
+
 TEST(Pid, ControllerInterfaceStepsTheSameLaw) {
   Pid a = configured(22.2, 1.08, 114);
   Pid b = configured(22.2, 1.08, 114);

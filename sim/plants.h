@@ -36,7 +36,7 @@ struct PlantSpec {
   double ambient_c = 25.0;
   // What the HIL tests and the benchmark run on this plant by default: the seed000 models are
   // nearly integrating (slow poles of 10–20 min), so they get the seed's own 150 °C set point
-  // and 40 minutes.
+  // and an hour: with PI gains their integral settles over ~40 min.
   double default_target_c = 210.0;
   double default_seconds = 600.0;
 };

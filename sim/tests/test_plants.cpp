@@ -107,10 +107,10 @@ TEST(PhysicalBound, NoControllerBeatsIt) {
 }
 
 TEST(DefaultGains, TwoPointFitRecoversAnExactFopdt) {
-  const FopdtApproximation m = fopdt_approximation(plant("seed004"));
-  EXPECT_NEAR(m.gain_k, 450.0, 1e-6);
-  EXPECT_NEAR(m.lag_s, 25.5, 0.05);
-  EXPECT_NEAR(m.delay_s, 19.5, 0.05);
+  const tuning::Fopdt m = fopdt_approximation(plant("seed004"));
+  EXPECT_NEAR(m.k_c_per_duty, 450.0, 1e-6);
+  EXPECT_NEAR(m.t_s, 25.5, 0.05);
+  EXPECT_NEAR(m.tau_s, 19.5, 0.05);
 }
 
 }  // namespace

@@ -20,7 +20,7 @@ extern "C" {
 namespace sim {
 namespace {
 
-constexpr std::size_t kMaxMessages = 64;        // keep the first simavr messages, count the rest
+constexpr std::size_t kMaxMessages = 64;  // keep the first simavr messages, count the rest
 // Lets avr_run_one() execute up to this many cycles per call while no timer is due and no
 // interrupt is pending (simavr still stops at every timer and interrupt, so timing is exact);
 // avr_init() and every reset set it to 1, which costs a timer scan per instruction.
@@ -48,9 +48,7 @@ AvrBoard::~AvrBoard() {
   std::free(avr_);  // allocated by the core maker with malloc (avr_core_allocate)
 }
 
-AvrBoard* AvrBoard::from(avr_t* avr) {
-  return avr ? static_cast<AvrBoard*>(avr->custom.data) : nullptr;
-}
+AvrBoard* AvrBoard::from(avr_t* avr) { return avr ? static_cast<AvrBoard*>(avr->custom.data) : nullptr; }
 
 void AvrBoard::load(const BoardSpec& spec, const std::string& elf_path) {
   // Route simavr's messages to the board that raised them (and silence its loader chatter).
@@ -59,7 +57,8 @@ void AvrBoard::load(const BoardSpec& spec, const std::string& elf_path) {
   FirmwareImage image(elf_path);
   mcu_ = image.mcu().empty() ? spec.mcu : image.mcu();
   if (mcu_ != spec.mcu)
-    throw std::runtime_error(elf_path + " is built for " + mcu_ + ", board " + spec.id + " has an " + spec.mcu);
+    throw std::runtime_error(elf_path + " is built for " + mcu_ + ", board " + spec.id + " has an " +
+                             spec.mcu);
   avr_ = avr_make_mcu_by_name(mcu_.c_str());
   if (!avr_) throw std::runtime_error("simavr has no core for " + mcu_);
   avr_init(avr_);
@@ -120,8 +119,10 @@ uint64_t AvrBoard::cycles_from_s(double seconds) const {
 }
 
 void AvrBoard::record_message(const std::string& text) {
-  if (messages_.size() < kMaxMessages) messages_.push_back(text);
-  else ++messages_dropped_;
+  if (messages_.size() < kMaxMessages)
+    messages_.push_back(text);
+  else
+    ++messages_dropped_;
 }
 
 void AvrBoard::log_trampoline(avr_t* avr, int level, const char* format, va_list args) {
@@ -129,8 +130,10 @@ void AvrBoard::log_trampoline(avr_t* avr, int level, const char* format, va_list
   char text[256];
   std::vsnprintf(text, sizeof text, format, args);
   AvrBoard* self = from(avr);
-  if (self) self->record_message(text);
-  else if (level <= LOG_ERROR) std::fputs(text, stderr);
+  if (self)
+    self->record_message(text);
+  else if (level <= LOG_ERROR)
+    std::fputs(text, stderr);
 }
 
 }  // namespace sim

@@ -17,7 +17,7 @@ namespace sim {
 namespace {
 
 constexpr uint16_t kGpior0DataAddress = 0x3E;  // GPIOR0 (I/O 0x1E) on both MCUs
-constexpr uint8_t kAdcMuxHighChannels = 0x20;   // MUX5:0 = 1 0 0xxx selects ADC8..ADC15
+constexpr uint8_t kAdcMuxHighChannels = 0x20;  // MUX5:0 = 1 0 0xxx selects ADC8..ADC15
 
 }  // namespace
 
@@ -37,8 +37,7 @@ void AvrBoard::attach_uart() {
       this);
   avr_irq_register_notify(
       uart_irqs_ + UART_IRQ_OUT_XON,
-      [](avr_irq_t*, uint32_t, void* param) { static_cast<AvrBoard*>(param)->uart_xon_ = true; },
-      this);
+      [](avr_irq_t*, uint32_t, void* param) { static_cast<AvrBoard*>(param)->uart_xon_ = true; }, this);
   avr_irq_register_notify(
       uart_irqs_ + UART_IRQ_OUT_XOFF,
       [](avr_irq_t*, uint32_t value, void* param) {

@@ -37,7 +37,8 @@ std::vector<Column> columns(bool variants, bool disturbance) {
   if (variants) cols.push_back({"variant", [](const BenchCase& c, const RunResult&) { return c.variant; }});
   cols.push_back({"board", [](const BenchCase& c, const RunResult&) { return c.config.board.id; }});
   cols.push_back({"plant", [](const BenchCase& c, const RunResult&) { return c.config.plant.name; }});
-  cols.push_back({"target °C", [](const BenchCase& c, const RunResult&) { return format_fixed(c.config.target_c, 0); }});
+  cols.push_back(
+      {"target °C", [](const BenchCase& c, const RunResult&) { return format_fixed(c.config.target_c, 0); }});
   cols.push_back({"reach s", [](const BenchCase&, const RunResult& r) {
                     return when_heated(r, format_optional(r.metrics.time_to_reach_s, 1));
                   }});
@@ -80,7 +81,8 @@ std::vector<Column> columns(bool variants, bool disturbance) {
                     return std::to_string(r.step_cycles.max_cycles) + " / " +
                            format_fixed(r.step_cycles.mean_cycles(), 0);
                   }});
-  cols.push_back({"sim speed ×", [](const BenchCase&, const RunResult& r) { return format_fixed(r.sim_speed(), 0); }});
+  cols.push_back(
+      {"sim speed ×", [](const BenchCase&, const RunResult& r) { return format_fixed(r.sim_speed(), 0); }});
   cols.push_back({"flash / RAM B", [](const BenchCase&, const RunResult& r) {
                     return std::to_string(r.image.flash_bytes) + " / " + std::to_string(r.image.ram_bytes);
                   }});
@@ -92,7 +94,8 @@ std::vector<Column> columns(bool variants, bool disturbance) {
 
 // Display width in characters (UTF-8 continuation bytes do not count).
 std::size_t width(const std::string& s) {
-  return static_cast<std::size_t>(std::count_if(s.begin(), s.end(), [](char ch) { return (ch & 0xC0) != 0x80; }));
+  return static_cast<std::size_t>(
+      std::count_if(s.begin(), s.end(), [](char ch) { return (ch & 0xC0) != 0x80; }));
 }
 
 std::string case_name(const BenchCase& c) {
@@ -118,9 +121,10 @@ std::vector<RunResult> run_bench(const std::vector<BenchCase>& cases, unsigned j
 
 void print_bench_table(std::ostream& out, const std::vector<BenchCase>& cases,
                        const std::vector<RunResult>& results, bool markdown) {
-  const bool variants = std::any_of(cases.begin(), cases.end(), [](const BenchCase& c) { return !c.variant.empty(); });
-  const bool disturbance =
-      std::any_of(results.begin(), results.end(), [](const RunResult& r) { return r.metrics.disturbance.has_value(); });
+  const bool variants =
+      std::any_of(cases.begin(), cases.end(), [](const BenchCase& c) { return !c.variant.empty(); });
+  const bool disturbance = std::any_of(results.begin(), results.end(),
+                                       [](const RunResult& r) { return r.metrics.disturbance.has_value(); });
   const std::vector<Column> cols = columns(variants, disturbance);
 
   std::vector<std::vector<std::string>> rows(1);
@@ -149,7 +153,8 @@ void print_bench_table(std::ostream& out, const std::vector<BenchCase>& cases,
 void print_bench_notes(std::ostream& out, const std::vector<BenchCase>& cases,
                        const std::vector<RunResult>& results) {
   for (std::size_t i = 0; i < results.size(); ++i) {
-    for (const std::string& line : results[i].error_lines) out << case_name(cases[i]) << ": firmware: " << line << "\n";
+    for (const std::string& line : results[i].error_lines)
+      out << case_name(cases[i]) << ": firmware: " << line << "\n";
     for (const std::string& p : results[i].problems) out << case_name(cases[i]) << ": " << p << "\n";
   }
 }

@@ -26,17 +26,18 @@ struct BoardSpec {
 
 // One BoardSpec from the boards::<ns> namespace: a macro because namespaces cannot be template
 // arguments; it spells every field once for all boards.
-#define HOTEND_SIM_BOARD_SPEC(ns)                                                           \
-  BoardSpec {                                                                               \
-    #ns, boards::ns::kName, boards::ns::kMcu, boards::ns::kCpuHz, boards::ns::kHotendHeater, \
-        boards::ns::kPartFan, boards::ns::kHotendAdcChannel, boards::ns::kBedAdcChannel,     \
-        boards::ns::kThermistorPullupOhm, boards::ns::kAdcRefMillivolts                      \
-  }
+// clang-format off
+#define HOTEND_SIM_BOARD_SPEC(ns)                                                               \
+  BoardSpec{#ns, boards::ns::kName, boards::ns::kMcu, boards::ns::kCpuHz,                       \
+            boards::ns::kHotendHeater, boards::ns::kPartFan, boards::ns::kHotendAdcChannel,     \
+            boards::ns::kBedAdcChannel, boards::ns::kThermistorPullupOhm,                       \
+            boards::ns::kAdcRefMillivolts}
+// clang-format on
 
 // Every board one configure builds, in the order boards/boards.cmake lists them.
 inline const std::vector<BoardSpec>& all_boards() {
-  static const std::vector<BoardSpec> boards{
-      HOTEND_SIM_BOARD_SPEC(sanguinololu), HOTEND_SIM_BOARD_SPEC(ramps14)};
+  static const std::vector<BoardSpec> boards{HOTEND_SIM_BOARD_SPEC(sanguinololu),
+                                             HOTEND_SIM_BOARD_SPEC(ramps14)};
   return boards;
 }
 

@@ -20,13 +20,12 @@ constexpr double kFaultRunTailS = 5.0;  // fault runs end this long after the fa
 
 const char* const kUsage = R"(usage:
   hotend-sim [run] [--board sanguinololu|ramps14] [--plant NAME] [--target C] [--seconds S]
-             [--csv FILE] [--noise-lsb SIGMA] [--seed N] [--gains P,I,D] [--gcode "CMD;CMD@T"]
-             [--elf FILE] [--fault open@T|short@T|hang@T] [--check] [--max-overshoot C]
-             [--max-steady-error C] [--max-report-error C] [--quiet]
-  hotend-sim bench [--markdown] [--boards a,b] [--plants x,y] [--target C] [--seconds S] [--jobs N]
-             [--noise-lsb SIGMA]
-             [--seed N] [--gains P,I,D] [--gcode "CMD@T"] [--variant NAME=GCODE]...
-             [--csv-dir DIR] [--elf-dir DIR]
+             [--csv FILE] [--noise-lsb SIGMA] [--seed N] [--gains P,I,D | --gains-rule RULE]
+             [--gcode "CMD;CMD@T"] [--elf FILE] [--fault open@T|short@T|hang@T] [--check]
+             [--max-overshoot C] [--max-steady-error C] [--max-report-error C] [--quiet]
+  hotend-sim bench [--markdown] [--boards a,b] [--plants x,y] [--target C] [--seconds S]
+             [--jobs N] [--noise-lsb SIGMA] [--seed N] [--gains P,I,D | --gains-rule RULE]
+             [--gcode "CMD@T"] [--variant NAME=GCODE]... [--csv-dir DIR] [--elf-dir DIR]
   hotend-sim list
 
 run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the untimed --gcode
@@ -34,7 +33,8 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the unti
   --seconds counts from there. Commands with @T are sent T s after t0; the first one splits the
   run: quality metrics before it, disturbance metrics (max |error|, recovery) after it.
   Defaults: ramps14, hotend40w, the plant's own target/duration, noise σ 0.5 LSB, gains from
-  the plant's FOPDT approximation (see `list`), ELF from this build's firmware directory.
+  the plant's FOPDT approximation by --gains-rule (simc = SIMC PI with τc = 2τ; also
+  simc-tight, amigo, cohen-coon, zn-step; see `list`), ELF from this build's firmware dir.
   --fault: thermistor open/short or a D0 hang T s after t0; the run ends 5 s after it.
   --check: exit 1 (listing what failed) unless the run meets the HIL limits.
 bench: every board × plant (or the given ones) in parallel, at each plant's default target and
@@ -67,7 +67,7 @@ void apply_common(const Options& o, RunConfig& c) {
     c.gains = parse_gains(o.get("gains"));
     c.gains_source = "--gains";
   } else {
-    const GainChoice choice = default_gains(c.plant);
+    const GainChoice choice = gains_by_rule(c.plant, o.get("gains-rule", kDefaultGainRule));
     c.gains = choice.gains;
     c.gains_source = choice.description;
   }
@@ -76,8 +76,8 @@ void apply_common(const Options& o, RunConfig& c) {
 
 int run_command(const std::vector<std::string>& args) {
   const Options o = parse_options(args, {"check", "quiet"});
-  reject_unknown(o, {"board", "plant", "target", "seconds", "csv", "noise-lsb", "seed", "gains", "gcode",
-                     "elf", "fault", "max-overshoot", "max-steady-error", "max-report-error"});
+  reject_unknown(o, {"board", "plant", "target", "seconds", "csv", "noise-lsb", "seed", "gains", "gains-rule",
+                     "gcode", "elf", "fault", "max-overshoot", "max-steady-error", "max-report-error"});
   RunConfig c;
   c.board = board_named(o.get("board", "ramps14"));
   c.plant = plant_named(o.get("plant", "hotend40w"));
@@ -106,8 +106,8 @@ int run_command(const std::vector<std::string>& args) {
 
 int bench_command(const std::vector<std::string>& args) {
   const Options o = parse_options(args, {"markdown"});
-  reject_unknown(o, {"boards", "plants", "target", "seconds", "jobs", "noise-lsb", "seed", "gains", "gcode",
-                     "variant", "csv-dir", "elf-dir"});
+  reject_unknown(o, {"boards", "plants", "target", "seconds", "jobs", "noise-lsb", "seed", "gains",
+                     "gains-rule", "gcode", "variant", "csv-dir", "elf-dir"});
   std::vector<std::string> boards, plants;
   for (const BoardSpec& b : all_boards()) boards.push_back(b.id);
   for (const PlantSpec& p : plant_bank()) plants.push_back(p.name);
@@ -138,7 +138,8 @@ int bench_command(const std::vector<std::string>& args) {
         const std::vector<TimedCommand> extra = parse_gcode(variant_gcode);
         c.gcode.insert(c.gcode.begin(), extra.begin(), extra.end());
         if (o.has("csv-dir"))
-          c.csv_path = o.get("csv-dir") + "/" + board + "-" + plant + (variant.empty() ? "" : "-" + variant) + ".csv";
+          c.csv_path =
+              o.get("csv-dir") + "/" + board + "-" + plant + (variant.empty() ? "" : "-" + variant) + ".csv";
         cases.push_back(BenchCase{c, variant});
       }
   const unsigned jobs = static_cast<unsigned>(parse_number(o.get("jobs", "0"), "--jobs"));
@@ -152,16 +153,17 @@ int list_command() {
   std::cout << "boards:\n";
   for (const BoardSpec& b : all_boards())
     std::cout << "  " << b.id << "  " << b.name << " (" << b.mcu << "), heater P" << b.hotend_heater.port
-              << int(b.hotend_heater.bit) << ", fan P" << b.part_fan.port << int(b.part_fan.bit) << ", thermistor ADC"
-              << int(b.hotend_adc_channel) << "\n";
+              << int(b.hotend_heater.bit) << ", fan P" << b.part_fan.port << int(b.part_fan.bit)
+              << ", thermistor ADC" << int(b.hotend_adc_channel) << "\n";
   std::cout << "plants:\n";
   for (const PlantSpec& p : plant_bank()) {
-    const GainChoice g = default_gains(p);
+    const GainChoice g = gains_by_rule(p);
     std::cout << "  " << p.name << "  " << p.description << "\n"
-              << "      100 % settles " << format_fixed(p.model.dc_gain_k(), 1) << " K above ambient; default "
-              << format_fixed(p.default_target_c, 0) << " °C for " << format_fixed(p.default_seconds, 0)
-              << " s; default gains P " << format_fixed(g.gains.kp, 3) << " I " << format_fixed(g.gains.ki, 4)
-              << " D " << format_fixed(g.gains.kd, 2) << " (" << g.description << ")\n";
+              << "      100 % settles " << format_fixed(p.model.dc_gain_k(), 1)
+              << " K above ambient; default " << format_fixed(p.default_target_c, 0) << " °C for "
+              << format_fixed(p.default_seconds, 0) << " s; default gains P " << format_fixed(g.gains.kp, 3)
+              << " I " << format_fixed(g.gains.ki, 4) << " D " << format_fixed(g.gains.kd, 2) << " ("
+              << g.description << ")\n";
   }
   return 0;
 }

@@ -55,10 +55,14 @@ void parse_fault(const std::string& text, RunConfig& config) {
   const auto at = text.find('@');
   if (at == std::string::npos) throw std::invalid_argument("--fault wants KIND@SECONDS");
   const std::string kind = text.substr(0, at);
-  if (kind == "open") config.fault = FaultKind::kOpen;
-  else if (kind == "short") config.fault = FaultKind::kShort;
-  else if (kind == "hang") config.fault = FaultKind::kHang;
-  else throw std::invalid_argument("--fault: unknown kind \"" + kind + "\" (open, short, hang)");
+  if (kind == "open")
+    config.fault = FaultKind::kOpen;
+  else if (kind == "short")
+    config.fault = FaultKind::kShort;
+  else if (kind == "hang")
+    config.fault = FaultKind::kHang;
+  else
+    throw std::invalid_argument("--fault: unknown kind \"" + kind + "\" (open, short, hang)");
   config.fault_at_s = parse_number(text.substr(at + 1), "--fault time");
 }
 

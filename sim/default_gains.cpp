@@ -1,16 +1,33 @@
 #include "sim/default_gains.h"
 
 #include <cstdio>
-#include <vector>
+#include <stdexcept>
 
 namespace sim {
 namespace {
 
 constexpr double kFitStepS = 0.05;
 constexpr double kFitHorizonS = 20000.0;  // long enough for every plant to settle (seed000: ~1 h)
-constexpr double kClosedLoopLagPerDelay = 2.0;  // SIMC's tuning parameter τc / τ
+
+tuning::MarlinGains apply_rule(const std::string& rule, const tuning::Fopdt& m) {
+  // SIMC PI with the smooth setting τc = 2τ is the default: no derivative (robust to ADC noise)
+  // and, in a double-precision model of the firmware's PID on every plant of the bank, at most
+  // ~0.6 °C overshoot on the heat-up from ambient despite heater saturation. τc = τ ("tight")
+  // overshoots 8–13 °C on the delay-dominated seeds, AMIGO 15–35 °C.
+  if (rule == "simc") return tuning::simc(m, 2.0 * m.tau_s);
+  if (rule == "simc-tight") return tuning::simc(m, m.tau_s);
+  if (rule == "amigo") return tuning::amigo(m);
+  if (rule == "cohen-coon") return tuning::cohen_coon(m);
+  if (rule == "zn-step") return tuning::ziegler_nichols_step(m);
+  throw std::invalid_argument("unknown gain rule \"" + rule + "\"");
+}
 
 }  // namespace
+
+const std::vector<std::string>& gain_rule_names() {
+  static const std::vector<std::string> names{"simc", "simc-tight", "amigo", "cohen-coon", "zn-step"};
+  return names;
+}
 
 tuning::Fopdt fopdt_approximation(const PlantSpec& plant) {
   const std::vector<double> rise =
@@ -23,17 +40,13 @@ tuning::Fopdt fopdt_approximation(const PlantSpec& plant) {
   return tuning::fit_fopdt_two_point(time_s, temp_c, 0.0, 1.0);
 }
 
-GainChoice default_gains(const PlantSpec& plant) {
+GainChoice gains_by_rule(const PlantSpec& plant, const std::string& rule) {
   GainChoice choice;
   choice.model = fopdt_approximation(plant);
-  // SIMC PI with the smooth setting τc = 2τ: no derivative (robust to ADC noise) and, in a
-  // double-precision model of the firmware's PID on every plant of the bank, at most ~0.6 °C
-  // overshoot on the heat-up from ambient despite heater saturation. τc = τ ("tight") overshoots
-  // 8–13 °C on the delay-dominated seeds, AMIGO 15–35 °C.
-  const tuning::MarlinGains g = tuning::simc(choice.model, kClosedLoopLagPerDelay * choice.model.tau_s);
+  const tuning::MarlinGains g = apply_rule(rule, choice.model);
   choice.gains = MarlinGains{g.kp, g.ki, g.kd};
   char text[160];
-  std::snprintf(text, sizeof text, "SIMC PI, τc = 2τ, on FOPDT K %.1f K, T %.1f s, τ %.1f s",
+  std::snprintf(text, sizeof text, "%s on FOPDT K %.1f K, T %.1f s, τ %.1f s", rule.c_str(),
                 choice.model.k_c_per_duty, choice.model.t_s, choice.model.tau_s);
   choice.description = text;
   return choice;

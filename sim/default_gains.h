@@ -1,9 +1,10 @@
-// The gains a run uses when none are given: the plant's first-order-plus-dead-time
-// approximation (the two-point fit of its simulated full-power step response, as an autotune
-// would see it) through a model-based PID rule from control/tuning.h.
+// PID gains from the plant model for runs that are not given --gains: the plant's
+// first-order-plus-dead-time approximation (the two-point fit of its simulated full-power step
+// response, as an autotune would see it) through a rule from control/tuning.h.
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "control/tuning.h"
 #include "sim/plants.h"
@@ -17,7 +18,13 @@ struct GainChoice {
   std::string description;  // rule and model, for reports
 };
 
+// Rule names: "simc" (the default: SIMC PI, τc = 2τ), "simc-tight" (τc = τ), "amigo",
+// "cohen-coon", "zn-step".
+const std::vector<std::string>& gain_rule_names();
+constexpr const char* kDefaultGainRule = "simc";
+
 tuning::Fopdt fopdt_approximation(const PlantSpec& plant);
-GainChoice default_gains(const PlantSpec& plant);
+// Throws std::invalid_argument for an unknown rule.
+GainChoice gains_by_rule(const PlantSpec& plant, const std::string& rule = kDefaultGainRule);
 
 }  // namespace sim

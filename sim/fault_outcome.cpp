@@ -7,9 +7,12 @@ namespace {
 
 const char* expected_error(FaultKind kind) {
   switch (kind) {
-    case FaultKind::kOpen: return "MINTEMP";   // an open thermistor reads as very cold
-    case FaultKind::kShort: return "MAXTEMP";  // a shorted one as very hot
-    default: return "";
+    case FaultKind::kOpen:
+      return "MINTEMP";  // an open thermistor reads as very cold
+    case FaultKind::kShort:
+      return "MAXTEMP";  // a shorted one as very hot
+    default:
+      return "";
   }
 }
 
@@ -28,8 +31,8 @@ FaultOutcome evaluate_fault(const FaultRecord& r, const std::vector<ReplyLine>& 
     f.heater_on_after_reset = r.heater_on_at_end || r.heater_turned_on_after_reset;
   }
   for (const ReplyLine& line : lines) {
-    if (!f.error_line_s && !f.expected_error.empty() && line.t_s >= r.fault_s && starts_with(line.text, "Error:") &&
-        line.text.find(f.expected_error) != std::string::npos)
+    if (!f.error_line_s && !f.expected_error.empty() && line.t_s >= r.fault_s &&
+        starts_with(line.text, "Error:") && line.text.find(f.expected_error) != std::string::npos)
       f.error_line_s = line.t_s - r.fault_s;
     if (r.reset_s && line.t_s >= *r.reset_s && line.text == "start") f.restarted = true;
   }

@@ -16,10 +16,10 @@ enum class FaultKind { kNone, kOpen, kShort, kHang };
 struct FaultOutcome {
   std::optional<double> heater_last_on_s;  // last moment the heater pin was on (nullopt: on at the end)
   bool heater_on_at_end = false;
-  std::string expected_error;              // "MINTEMP"/"MAXTEMP", "" for a hang
-  std::optional<double> error_line_s;      // when the expected Error: line came
-  std::optional<double> reset_s;           // first CPU reset after the fault
-  bool restarted = false;                  // `start` printed after that reset
+  std::string expected_error;          // "MINTEMP"/"MAXTEMP", "" for a hang
+  std::optional<double> error_line_s;  // when the expected Error: line came
+  std::optional<double> reset_s;       // first CPU reset after the fault
+  bool restarted = false;              // `start` printed after that reset
   bool heater_on_after_reset = false;
 };
 

@@ -26,9 +26,7 @@ FirmwareImage::~FirmwareImage() {
 
 std::string FirmwareImage::mcu() const { return elf_->mmcu; }
 
-ImageSize FirmwareImage::size() const {
-  return ImageSize{elf_->flashsize, elf_->datasize + elf_->bsssize};
-}
+ImageSize FirmwareImage::size() const { return ImageSize{elf_->flashsize, elf_->datasize + elf_->bsssize}; }
 
 void FirmwareImage::default_clock_and_voltages(uint32_t cpu_hz, uint32_t supply_mv) {
   if (!elf_->frequency) elf_->frequency = cpu_hz;

@@ -59,8 +59,8 @@ class HostSession {
     std::function<void(double)> on_ok;
   };
   std::deque<Command> queue_;
-  std::optional<Command> in_flight_;      // sent (or being sent), awaiting `ok`
-  std::size_t bytes_sent_ = 0;            // of *in_flight_ (with its newline)
+  std::optional<Command> in_flight_;  // sent (or being sent), awaiting `ok`
+  std::size_t bytes_sent_ = 0;        // of *in_flight_ (with its newline)
   double in_flight_since_s_ = 0.0;
   std::string partial_;
   int boot_count_ = 0;

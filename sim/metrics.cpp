@@ -10,8 +10,8 @@ bool in_band(double temp_c, double target_c) { return std::fabs(temp_c - target_
 
 // Relative time of the last sample outside the band in [from, to), if the last sample is inside
 // (nullopt when the stretch ends outside; 0 if it was never outside).
-std::optional<double> last_exit(const std::vector<TraceSample>& trace, std::size_t from,
-                                std::size_t to, double t_ref_s, double target_c) {
+std::optional<double> last_exit(const std::vector<TraceSample>& trace, std::size_t from, std::size_t to,
+                                double t_ref_s, double target_c) {
   if (from >= to || !in_band(trace[to - 1].true_c, target_c)) return std::nullopt;
   for (std::size_t i = to; i-- > from;)
     if (!in_band(trace[i].true_c, target_c)) return trace[i].t_s - t_ref_s;
@@ -19,10 +19,9 @@ std::optional<double> last_exit(const std::vector<TraceSample>& trace, std::size
 }
 
 std::size_t first_at_or_after(const std::vector<TraceSample>& trace, double t_s) {
-  return static_cast<std::size_t>(
-      std::lower_bound(trace.begin(), trace.end(), t_s,
-                       [](const TraceSample& s, double t) { return s.t_s < t; }) -
-      trace.begin());
+  return static_cast<std::size_t>(std::lower_bound(trace.begin(), trace.end(), t_s,
+                                                   [](const TraceSample& s, double t) { return s.t_s < t; }) -
+                                  trace.begin());
 }
 
 }  // namespace

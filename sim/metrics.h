@@ -19,13 +19,13 @@
 namespace sim {
 
 struct TraceSample {
-  double t_s = 0.0;         // simulated time since power-on
-  double true_c = 0.0;      // plant output (sensor node), instantaneous
-  double sensor_c = 0.0;    // temperature equivalent of the mean injected ADC code over the period
-  double reported_c = 0.0;  // last T: value the firmware printed (NaN before the first)
-  double target_c = 0.0;    // last M104 target sent
-  double heater_duty = 0.0; // mean over the period, from the pin
-  double fan_duty = 0.0;    // mean over the period, from the pin
+  double t_s = 0.0;          // simulated time since power-on
+  double true_c = 0.0;       // plant output (sensor node), instantaneous
+  double sensor_c = 0.0;     // temperature equivalent of the mean injected ADC code over the period
+  double reported_c = 0.0;   // last T: value the firmware printed (NaN before the first)
+  double target_c = 0.0;     // last M104 target sent
+  double heater_duty = 0.0;  // mean over the period, from the pin
+  double fan_duty = 0.0;     // mean over the period, from the pin
 };
 
 struct DisturbanceMetrics {

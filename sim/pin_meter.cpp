@@ -8,7 +8,8 @@ void PinMeter::update(bool high, bool output, uint64_t cycle) {
   output_ = output;
   const bool now_on = is_on();
   if (was_on == now_on) return;
-  if (was_on) on_cycles_in_window_ += cycle - on_since_cycle_;
+  if (was_on)
+    on_cycles_in_window_ += cycle - on_since_cycle_;
   else {
     on_since_cycle_ = cycle;
     ++turn_on_count_;

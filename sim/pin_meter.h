@@ -31,7 +31,7 @@ class PinMeter {
   bool high_ = false;
   bool output_ = false;
   uint64_t window_start_cycle_ = 0;
-  uint64_t on_since_cycle_ = 0;      // valid while is_on()
+  uint64_t on_since_cycle_ = 0;  // valid while is_on()
   uint64_t on_cycles_in_window_ = 0;
   uint64_t last_change_cycle_ = 0;
   uint64_t turn_on_count_ = 0;

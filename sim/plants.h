@@ -65,17 +65,17 @@ class Plant {
  private:
   const Discretised& zoh_for_fan_level(int level);
 
-  static constexpr int kFanLevels = 256;         // airflow quantised to 1/256 for the cache
-  static constexpr double kFanSpinUpS = 0.5;     // airflow lag behind the modulated fan pin
+  static constexpr int kFanLevels = 256;      // airflow quantised to 1/256 for the cache
+  static constexpr double kFanSpinUpS = 0.5;  // airflow lag behind the modulated fan pin
 
   PlantSpec spec_;
   double dt_s_;
   std::vector<double> x_, x_next_;  // state, and scratch for the update (no allocation per step)
   std::vector<double> delay_line_;  // C·x per step over the dead time, oldest at delay_index_
   std::size_t delay_index_ = 0;
-  double rise_k_ = 0.0;             // the delayed output
-  double airflow_step_gain_;        // first-order lag of the airflow per step
-  double airflow_ = 0.0;            // filtered fan duty 0..1
+  double rise_k_ = 0.0;       // the delayed output
+  double airflow_step_gain_;  // first-order lag of the airflow per step
+  double airflow_ = 0.0;      // filtered fan duty 0..1
   std::vector<std::unique_ptr<Discretised>> zoh_by_fan_level_;
   long long steps_ = 0;
 };

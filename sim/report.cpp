@@ -8,10 +8,14 @@ namespace {
 
 const char* fault_name(FaultKind kind) {
   switch (kind) {
-    case FaultKind::kOpen: return "thermistor open";
-    case FaultKind::kShort: return "thermistor shorted";
-    case FaultKind::kHang: return "firmware hang (D0)";
-    case FaultKind::kNone: break;
+    case FaultKind::kOpen:
+      return "thermistor open";
+    case FaultKind::kShort:
+      return "thermistor shorted";
+    case FaultKind::kHang:
+      return "firmware hang (D0)";
+    case FaultKind::kNone:
+      break;
   }
   return "none";
 }
@@ -23,7 +27,8 @@ void print_fault(std::ostream& out, const RunResult& r) {
       << "  heater last on   " << format_optional(f.heater_last_on_s, 3) << " s after the fault"
       << (f.heater_on_at_end ? " (STILL ON at the end)" : "") << "\n";
   if (!f.expected_error.empty())
-    out << "  Error:" << f.expected_error << "  " << (f.error_line_s ? "printed after " + format_fixed(*f.error_line_s, 3) + " s" : "NOT printed")
+    out << "  Error:" << f.expected_error << "  "
+        << (f.error_line_s ? "printed after " + format_fixed(*f.error_line_s, 3) + " s" : "NOT printed")
         << "\n";
   if (r.config.fault == FaultKind::kHang)
     out << "  watchdog reset   " << (f.reset_s ? format_fixed(*f.reset_s, 3) + " s after D0" : "NONE") << "\n"
@@ -53,9 +58,10 @@ void print_report(std::ostream& out, const RunResult& r) {
       << "plant              " << c.plant.name << ": " << c.plant.description << "\n"
       << "target             " << format_fixed(c.target_c, 1) << " °C for " << format_fixed(c.seconds, 0)
       << " s, ADC noise σ " << format_fixed(c.noise_lsb, 2) << " LSB\n"
-      << "gains              " << (c.gains ? "P " + format_fixed(c.gains->kp, 3) + " I " + format_fixed(c.gains->ki, 4) +
-                                                  " D " + format_fixed(c.gains->kd, 2)
-                                            : std::string("firmware default"))
+      << "gains              "
+      << (c.gains ? "P " + format_fixed(c.gains->kp, 3) + " I " + format_fixed(c.gains->ki, 4) + " D " +
+                        format_fixed(c.gains->kd, 2)
+                  : std::string("firmware default"))
       << (c.gains_source.empty() ? "" : "  (" + c.gains_source + ")") << "\n";
   if (r.heating_start_s) {
     out << "heating start      " << format_fixed(*r.heating_start_s, 3) << " s after power-on\n"
@@ -65,7 +71,8 @@ void print_report(std::ostream& out, const RunResult& r) {
     if (r.bound.reachable)
       out << "physical bound     " << format_fixed(r.bound.settling_s, 1) << " s (100 % until "
           << format_fixed(r.bound.switch_s, 1) << " s, then " << format_fixed(100.0 * r.bound.steady_duty, 1)
-          << " %); ratio " << (m.settling_s ? format_fixed(*m.settling_s / r.bound.settling_s, 2) : "-") << "\n";
+          << " %); ratio " << (m.settling_s ? format_fixed(*m.settling_s / r.bound.settling_s, 2) : "-")
+          << "\n";
     else
       out << "physical bound     target unreachable at 100 % heater power\n";
     out << "steady state       " << format_fixed(m.steady_from_s, 0) << "–" << format_fixed(m.steady_to_s, 0)
@@ -81,8 +88,8 @@ void print_report(std::ostream& out, const RunResult& r) {
       << format_fixed(r.report_error_max_c, 3) << " °C\n"
       << "control step       " << r.step_cycles.count << " steps, max " << r.step_cycles.max_cycles
       << " cycles, mean " << format_fixed(r.step_cycles.mean_cycles(), 0) << "\n"
-      << "simulated          " << format_fixed(r.end_s, 1) << " s in " << format_fixed(r.wall_s, 2) << " s wall ("
-      << format_fixed(r.sim_speed(), 0) << "× real time)\n";
+      << "simulated          " << format_fixed(r.end_s, 1) << " s in " << format_fixed(r.wall_s, 2)
+      << " s wall (" << format_fixed(r.sim_speed(), 0) << "× real time)\n";
   if (r.fault) print_fault(out, r);
   for (const std::string& line : r.error_lines) out << "firmware said      " << line << "\n";
   for (const std::string& p : r.problems) out << "problem            " << p << "\n";
@@ -105,8 +112,8 @@ std::vector<std::string> failed_checks(const RunResult& r, const CheckLimits& li
     require(r.error_lines.empty(), "the firmware printed an Error: line");
     require(r.resets == 0, "the CPU was reset during the run");
     require(m.time_to_reach_s.has_value(), "never reached ±1 °C of the target");
-    require(m.overshoot_c <= limits.max_overshoot_c,
-            "overshoot " + format_fixed(m.overshoot_c, 2) + " °C > " + format_fixed(limits.max_overshoot_c, 2));
+    require(m.overshoot_c <= limits.max_overshoot_c, "overshoot " + format_fixed(m.overshoot_c, 2) +
+                                                         " °C > " + format_fixed(limits.max_overshoot_c, 2));
     require(std::fabs(m.steady_mean_error_c) <= limits.max_steady_error_c,
             "steady-state mean error " + format_fixed(m.steady_mean_error_c, 3) + " °C, limit ±" +
                 format_fixed(limits.max_steady_error_c, 2));

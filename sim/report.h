@@ -12,9 +12,9 @@ namespace sim {
 // Pass limits for `--check`; defaults are issue 2's HIL acceptance criteria.
 struct CheckLimits {
   double max_overshoot_c = 5.0;
-  double max_steady_error_c = 0.5;   // |steady-state mean error|
-  double max_report_error_c = 1.0;   // T: reports vs the true sensor temperature
-  double max_heater_off_s = 1.0;     // fault runs: heater off this soon after the fault
+  double max_steady_error_c = 0.5;  // |steady-state mean error|
+  double max_report_error_c = 1.0;  // T: reports vs the true sensor temperature
+  double max_heater_off_s = 1.0;    // fault runs: heater off this soon after the fault
 };
 
 void print_report(std::ostream& out, const RunResult& result);

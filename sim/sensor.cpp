@@ -15,7 +15,7 @@ uint16_t simavr_mv_for_code(int code, uint32_t vref_mv) {
   code = std::clamp(code, 0, kAdcMaxCode);
   // Bin of `code`: the integers mV with code·vref ≤ mV·1023 < (code+1)·vref.
   const uint32_t lo = (uint32_t(code) * vref_mv + 1022u) / 1023u;  // ceil
-  if (code == kAdcMaxCode) return static_cast<uint16_t>(lo);      // simavr clips above
+  if (code == kAdcMaxCode) return static_cast<uint16_t>(lo);       // simavr clips above
   const uint32_t hi = ((uint32_t(code) + 1u) * vref_mv + 1022u) / 1023u - 1u;
   return static_cast<uint16_t>((lo + hi) / 2u);
 }
@@ -25,15 +25,18 @@ int silicon_code(double mean_code, double noise_lsb) {
   return static_cast<int>(std::clamp(code, 0.0, double(kAdcMaxCode)));
 }
 
-ThermistorAdc::ThermistorAdc(const thermistor::Sensor& sensor, double pullup_ohm,
-                             double noise_sigma_lsb, uint64_t seed)
+ThermistorAdc::ThermistorAdc(const thermistor::Sensor& sensor, double pullup_ohm, double noise_sigma_lsb,
+                             uint64_t seed)
     : sensor_(sensor), pullup_ohm_(pullup_ohm), noise_sigma_lsb_(noise_sigma_lsb), rng_(seed) {}
 
 double ThermistorAdc::mean_code(double temp_c) const {
   switch (fault_) {
-    case SensorFault::kOpen: return thermistor::kAdcCodes;
-    case SensorFault::kShorted: return 0.0;
-    case SensorFault::kNone: break;
+    case SensorFault::kOpen:
+      return thermistor::kAdcCodes;
+    case SensorFault::kShorted:
+      return 0.0;
+    case SensorFault::kNone:
+      break;
   }
   return thermistor::divider_adc_code(thermistor::resistance_ohm(sensor_, temp_c), pullup_ohm_);
 }

@@ -29,8 +29,7 @@ enum class SensorFault { kNone, kOpen, kShorted };
 
 class ThermistorAdc {
  public:
-  ThermistorAdc(const thermistor::Sensor& sensor, double pullup_ohm, double noise_sigma_lsb,
-                uint64_t seed);
+  ThermistorAdc(const thermistor::Sensor& sensor, double pullup_ohm, double noise_sigma_lsb, uint64_t seed);
 
   // Ideal mean ADC code (0..1024, unquantised) for a sensor temperature, honouring a fault:
   // open → the pull-up takes the pin to Vref (1024), shorted → 0.

@@ -65,8 +65,8 @@ class Runner {
   double next_m105_s_ = 0.0;
   double target_sent_c_ = 0.0;
   std::optional<double> fault_abs_s_;
-  std::optional<double> reset_after_fault_s_;    // first CPU reset after the fault
-  uint64_t heater_turn_ons_at_that_reset_ = 0;  // heater().turn_on_count() right after it
+  std::optional<double> reset_after_fault_s_;          // first CPU reset after the fault
+  uint64_t heater_turn_ons_at_that_reset_ = 0;         // heater().turn_on_count() right after it
   std::deque<std::pair<double, double>> recent_true_;  // (t, true °C) over kReportLatencyS
   // Trace accumulators over one sample period.
   int trace_steps_ = 0;

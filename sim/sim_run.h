@@ -40,7 +40,7 @@ struct RunConfig {
   std::string gains_source;          // how `gains` were chosen, for the report
   std::vector<TimedCommand> gcode;
   FaultKind fault = FaultKind::kNone;
-  double fault_at_s = 0.0;           // after the heating start
+  double fault_at_s = 0.0;  // after the heating start
   std::string csv_path;
 };
 
@@ -52,14 +52,14 @@ struct RunResult {
   CpuState cpu = CpuState::kRunning;
   Metrics metrics;
   PhysicalBound bound;
-  int report_count = 0;                    // T: reports before any fault
-  double report_error_max_c = 0.0;         // see sim_run.cpp: kReportLatencyS
+  int report_count = 0;             // T: reports before any fault
+  double report_error_max_c = 0.0;  // see sim_run.cpp: kReportLatencyS
   StepCycleStats step_cycles;
   ImageSize image;
   double wall_s = 0.0;
   int resets = 0;
-  std::vector<std::string> error_lines;    // the firmware's Error: lines
-  std::vector<std::string> problems;       // what the harness saw go wrong
+  std::vector<std::string> error_lines;  // the firmware's Error: lines
+  std::vector<std::string> problems;     // what the harness saw go wrong
   std::vector<std::string> simavr_messages;
   std::optional<FaultOutcome> fault;
   std::vector<TraceSample> trace;

@@ -37,7 +37,8 @@ TEST(CliArgs, GainsAndOptions) {
   EXPECT_DOUBLE_EQ(g.kd, 114.0);
   EXPECT_THROW(parse_gains("1,2"), std::invalid_argument);
 
-  const Options o = parse_options({"--board", "ramps14", "--check", "--variant=a=M1", "--variant", "b="}, {"check"});
+  const Options o =
+      parse_options({"--board", "ramps14", "--check", "--variant=a=M1", "--variant", "b="}, {"check"});
   EXPECT_EQ(o.get("board"), "ramps14");
   EXPECT_TRUE(o.has("check"));
   EXPECT_EQ(o.all("variant"), (std::vector<std::string>{"a=M1", "b="}));

@@ -15,8 +15,10 @@ std::vector<TraceSample> make_trace() {
   for (int i = 0; i <= 1000; ++i) {
     const double t = 0.1 * i;
     double temp = 210.2;
-    if (t < 10.0) temp = 25.0 + (212.0 - 25.0) * t / 10.0;
-    else if (t < 20.0) temp = 212.0 - 1.8 * (t - 10.0) / 10.0;
+    if (t < 10.0)
+      temp = 25.0 + (212.0 - 25.0) * t / 10.0;
+    else if (t < 20.0)
+      temp = 212.0 - 1.8 * (t - 10.0) / 10.0;
     TraceSample s;
     s.t_s = 10.0 + t;
     s.true_c = temp;
@@ -28,10 +30,10 @@ std::vector<TraceSample> make_trace() {
 TEST(Metrics, FollowTheirDefinitions) {
   const Metrics m = compute_metrics(make_trace(), 10.0, 210.0);
   ASSERT_TRUE(m.time_to_reach_s);
-  EXPECT_NEAR(*m.time_to_reach_s, 9.9, 0.051);   // 209 °C at t = 184/187·10 = 9.84
+  EXPECT_NEAR(*m.time_to_reach_s, 9.9, 0.051);  // 209 °C at t = 184/187·10 = 9.84
   EXPECT_NEAR(m.overshoot_c, 2.0, 1e-9);
   ASSERT_TRUE(m.settling_s);
-  EXPECT_NEAR(*m.settling_s, 15.5, 0.051);       // last sample above 211 °C
+  EXPECT_NEAR(*m.settling_s, 15.5, 0.051);  // last sample above 211 °C
   EXPECT_NEAR(m.steady_mean_error_c, 0.2, 1e-9);
   EXPECT_NEAR(m.steady_peak_to_peak_c, 0.0, 1e-9);
   EXPECT_NEAR(m.steady_from_s, 75.0, 0.051);
@@ -79,7 +81,7 @@ TEST(PinMeter, IntegratesOnTimeBetweenEdges) {
   pin.set_level(true, 1500);
   EXPECT_DOUBLE_EQ(pin.take_duty(2000), 0.5);  // still on: counted up to the sample
   EXPECT_DOUBLE_EQ(pin.take_duty(3000), 1.0);
-  pin.set_output(false, 3500);                  // an input pin does not drive the MOSFET
+  pin.set_output(false, 3500);  // an input pin does not drive the MOSFET
   EXPECT_DOUBLE_EQ(pin.take_duty(4000), 0.5);
   pin.reset(4000);
   EXPECT_FALSE(pin.is_on());

@@ -74,7 +74,8 @@ TEST(ThermistorAdc, FaultsPinTheCode) {
 
 TEST(ThermistorAdc, TemperatureForCodeInvertsMeanCode) {
   ThermistorAdc adc(thermistor::kEpcos100k, kPullupOhm, 0.0, 1);
-  for (double t : {25.0, 150.0, 210.0, 280.0}) EXPECT_NEAR(adc.temperature_for_code(adc.mean_code(t)), t, 1e-6);
+  for (double t : {25.0, 150.0, 210.0, 280.0})
+    EXPECT_NEAR(adc.temperature_for_code(adc.mean_code(t)), t, 1e-6);
   EXPECT_TRUE(std::isnan(adc.temperature_for_code(0.0)));
   EXPECT_TRUE(std::isnan(adc.temperature_for_code(1024.0)));
 }

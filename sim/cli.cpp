@@ -11,6 +11,7 @@
 #include "sim/cli_args.h"
 #include "sim/default_gains.h"
 #include "sim/report.h"
+#include "sim/run_files.h"
 #include "sim/sim_run.h"
 
 namespace sim {
@@ -22,7 +23,8 @@ const char* const kUsage = R"(usage:
   hotend-sim [run] [--board sanguinololu|ramps14] [--plant NAME] [--target C] [--seconds S]
              [--csv FILE] [--noise-lsb SIGMA] [--seed N] [--gains P,I,D | --gains-rule RULE]
              [--gcode "CMD;CMD@T"] [--elf FILE] [--fault open@T|short@T|hang@T] [--check]
-             [--max-overshoot C] [--max-steady-error C] [--max-report-error C] [--quiet]
+             [--max-overshoot C] [--max-steady-error C] [--max-report-error C]
+             [--transcript FILE] [--quiet]
   hotend-sim bench [--markdown] [--boards a,b] [--plants x,y] [--target C] [--seconds S]
              [--jobs N] [--noise-lsb SIGMA] [--seed N] [--gains P,I,D | --gains-rule RULE]
              [--gcode "CMD@T"] [--variant NAME=GCODE]... [--csv-dir DIR] [--elf-dir DIR]
@@ -37,6 +39,7 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the unti
   simc-tight, amigo, cohen-coon, zn-step; see `list`), ELF from this build's firmware dir.
   --fault: thermistor open/short or a D0 hang T s after t0; the run ends 5 s after it.
   --check: exit 1 (listing what failed) unless the run meets the HIL limits.
+  --transcript: the serial conversation with simulated times ("> " sent, "< " received).
 bench: every board × plant (or the given ones) in parallel, at each plant's default target and
   duration (or --target/--seconds for all); prints one table (with disturbance columns when
   --gcode has a timed command) and under it every problem or Error: line. Each --variant runs
@@ -76,8 +79,9 @@ void apply_common(const Options& o, RunConfig& c) {
 
 int run_command(const std::vector<std::string>& args) {
   const Options o = parse_options(args, {"check", "quiet"});
-  reject_unknown(o, {"board", "plant", "target", "seconds", "csv", "noise-lsb", "seed", "gains", "gains-rule",
-                     "gcode", "elf", "fault", "max-overshoot", "max-steady-error", "max-report-error"});
+  reject_unknown(
+      o, {"board", "plant", "target", "seconds", "csv", "noise-lsb", "seed", "gains", "gains-rule", "gcode",
+          "elf", "fault", "transcript", "max-overshoot", "max-steady-error", "max-report-error"});
   RunConfig c;
   c.board = board_named(o.get("board", "ramps14"));
   c.plant = plant_named(o.get("plant", "hotend40w"));
@@ -97,6 +101,7 @@ int run_command(const std::vector<std::string>& args) {
 
   const RunResult result = run_simulation(c);
   if (!o.has("quiet")) print_report(std::cout, result);
+  if (o.has("transcript")) write_transcript(o.get("transcript"), result.transcript);
   if (!o.has("check")) return 0;
   const std::vector<std::string> failed = failed_checks(result, limits);
   for (const std::string& f : failed) std::cout << "CHECK FAILED: " << f << "\n";

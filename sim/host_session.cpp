@@ -52,6 +52,8 @@ void HostSession::poll() {
     if (queue_.empty()) return;
     in_flight_ = std::move(queue_.front());
     queue_.pop_front();
+    const std::string& text = in_flight_->text;
+    transcript_.push_back(ReplyLine{board_.time_s(), "> " + text.substr(0, text.size() - 1)});
     bytes_sent_ = 0;
     in_flight_since_s_ = board_.time_s();
   }
@@ -87,6 +89,7 @@ void HostSession::on_complete_line(std::string text) {
     in_flight_.reset();
     if (on_ok) on_ok(now);
   }
+  transcript_.push_back(ReplyLine{now, "< " + text});
   lines_.push_back(ReplyLine{now, std::move(text)});
   if (line_handler_) line_handler_(lines_.back());
 }

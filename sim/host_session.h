@@ -44,6 +44,8 @@ class HostSession {
 
   int boot_count() const { return boot_count_; }  // `start` lines seen
   const std::vector<ReplyLine>& lines() const { return lines_; }
+  // Every line both ways, in order: sent lines prefixed "> ", received ones "< ".
+  const std::vector<ReplyLine>& transcript() const { return transcript_; }
   const std::vector<TempReport>& reports() const { return reports_; }
   const std::vector<std::string>& problems() const { return problems_; }
   // Called with each complete reply line as it arrives.
@@ -65,6 +67,7 @@ class HostSession {
   std::string partial_;
   int boot_count_ = 0;
   std::vector<ReplyLine> lines_;
+  std::vector<ReplyLine> transcript_;
   std::vector<TempReport> reports_;
   std::vector<std::string> problems_;
   std::function<void(const ReplyLine&)> line_handler_;

@@ -7,8 +7,8 @@
 #include <limits>
 
 #include "sim/host_session.h"
+#include "sim/run_files.h"
 #include "sim/sensor.h"
-#include "sim/trace_csv.h"
 
 namespace sim {
 namespace {
@@ -24,17 +24,22 @@ constexpr double kSetupTimeoutS = 30.0;
 constexpr double kM105PeriodS = 5.0;  // M155 reports every second; M105 is polled as well
 constexpr double kRunChunkS = 0.25;
 
-std::string format_gains(const MarlinGains& g) {
-  char text[96];
-  std::snprintf(text, sizeof text, "M301 P%.4g I%.4g D%.4g", g.kp, g.ki, g.kd);
-  return text;
+// Plain decimals as hosts type them (G-code parsers need not accept exponents): 6 places is
+// finer than the firmware's Q16 gains, trailing zeros dropped.
+std::string format_decimal(double value) {
+  char text[48];
+  std::snprintf(text, sizeof text, "%.6f", value);
+  std::string s = text;
+  while (s.back() == '0') s.pop_back();
+  if (s.back() == '.') s.pop_back();
+  return s;
 }
 
-std::string format_target(double target_c) {
-  char text[32];
-  std::snprintf(text, sizeof text, "M104 S%g", target_c);
-  return text;
+std::string format_gains(const MarlinGains& g) {
+  return "M301 P" + format_decimal(g.kp) + " I" + format_decimal(g.ki) + " D" + format_decimal(g.kd);
 }
+
+std::string format_target(double target_c) { return "M104 S" + format_decimal(target_c); }
 
 class Runner {
  public:
@@ -227,6 +232,7 @@ void Runner::finish() {
   result_.resets = board_.reset_count();
   result_.simavr_messages = board_.simavr_messages();
   for (const std::string& p : session_.problems()) result_.problems.push_back(p);
+  result_.transcript = session_.transcript();
   result_.bound = physical_bound(config_.plant, config_.target_c);
   if (!result_.heating_start_s) return;
 

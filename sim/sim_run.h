@@ -11,6 +11,7 @@
 #include "sim/board_spec.h"
 #include "sim/bound.h"
 #include "sim/fault_outcome.h"
+#include "sim/host_session.h"
 #include "sim/metrics.h"
 #include "sim/plants.h"
 
@@ -61,6 +62,7 @@ struct RunResult {
   std::vector<std::string> error_lines;  // the firmware's Error: lines
   std::vector<std::string> problems;     // what the harness saw go wrong
   std::vector<std::string> simavr_messages;
+  std::vector<ReplyLine> transcript;  // the serial conversation ("> " sent, "< " received)
   std::optional<FaultOutcome> fault;
   std::vector<TraceSample> trace;
 
@@ -68,7 +70,8 @@ struct RunResult {
 };
 
 // Runs to completion; never throws for firmware misbehaviour (that is in `problems`), throws
-// std::runtime_error only if the run cannot start (bad ELF, bad config).
+// std::runtime_error only if the run cannot start (bad ELF, bad config) or the CSV cannot be
+// written.
 RunResult run_simulation(const RunConfig& config);
 
 }  // namespace sim

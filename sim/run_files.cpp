@@ -1,4 +1,4 @@
-#include "sim/trace_csv.h"
+#include "sim/run_files.h"
 
 #include <cmath>
 #include <cstdio>
@@ -12,11 +12,18 @@ void put(std::FILE* f, double v, const char* format) {
   if (!std::isnan(v)) std::fprintf(f, format, v);
 }
 
+using File = std::unique_ptr<std::FILE, int (*)(std::FILE*)>;
+
+File open_for_writing(const std::string& path) {
+  File file(std::fopen(path.c_str(), "w"), &std::fclose);
+  if (!file) throw std::runtime_error("cannot write " + path);
+  return file;
+}
+
 }  // namespace
 
 void write_trace_csv(const std::string& path, const std::vector<TraceSample>& trace) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "w"), &std::fclose);
-  if (!file) throw std::runtime_error("cannot write " + path);
+  const File file = open_for_writing(path);
   std::FILE* f = file.get();
   std::fputs("time_s,true_c,sensor_c,reported_c,target_c,heater_duty,fan_duty\n", f);
   for (const TraceSample& s : trace) {
@@ -26,6 +33,12 @@ void write_trace_csv(const std::string& path, const std::vector<TraceSample>& tr
     put(f, s.reported_c, "%.2f");
     std::fprintf(f, ",%.2f,%.4f,%.4f\n", s.target_c, s.heater_duty, s.fan_duty);
   }
+}
+
+void write_transcript(const std::string& path, const std::vector<ReplyLine>& transcript) {
+  const File file = open_for_writing(path);
+  for (const ReplyLine& line : transcript)
+    std::fprintf(file.get(), "%10.3f %s\n", line.t_s, line.text.c_str());
 }
 
 }  // namespace sim

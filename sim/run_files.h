@@ -1,9 +1,11 @@
-// Writes a run's trace as CSV for plotting (one row per 0.1 s of simulated time).
+// Writes a run's records to files: the trace as CSV for plotting (one row per 0.1 s of
+// simulated time) and the serial transcript as text.
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "sim/host_session.h"
 #include "sim/metrics.h"
 
 namespace sim {
@@ -11,5 +13,7 @@ namespace sim {
 // Columns: time_s,true_c,sensor_c,reported_c,target_c,heater_duty,fan_duty (NaN → empty).
 // Throws std::runtime_error if the file cannot be written.
 void write_trace_csv(const std::string& path, const std::vector<TraceSample>& trace);
+// One line per transcript entry: "<seconds> <line>".
+void write_transcript(const std::string& path, const std::vector<ReplyLine>& transcript);
 
 }  // namespace sim

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <stdexcept>
 #include <string>
@@ -46,8 +47,12 @@ bench: every board × plant (or the given ones) in parallel, at each plant's def
   the grid again with its untimed G-code (e.g. a controller choice or its own M301).
 )";
 
+// This build's image for the board; says how to make it when it is missing.
 std::string default_elf_path(const std::string& dir, const BoardSpec& board) {
-  return dir + "/firmware-" + board.id + ".elf";
+  const std::string path = dir + "/firmware-" + board.id + ".elf";
+  if (!std::filesystem::exists(path))
+    throw std::runtime_error("no firmware image " + path + " (build it: cmake --build <build dir> --target firmware)");
+  return path;
 }
 
 const BoardSpec& board_named(const std::string& id) {
@@ -91,7 +96,7 @@ int run_command(const std::vector<std::string>& args) {
       c.fault == FaultKind::kNone ? c.plant.default_seconds : c.fault_at_s + kFaultRunTailS;
   c.seconds = parse_number(o.get("seconds", std::to_string(default_seconds)), "--seconds");
   c.csv_path = o.get("csv");
-  c.elf_path = o.get("elf", default_elf_path(HOTEND_SIM_FIRMWARE_DIR, c.board));
+  c.elf_path = o.has("elf") ? o.get("elf") : default_elf_path(HOTEND_SIM_FIRMWARE_DIR, c.board);
   apply_common(o, c);
 
   CheckLimits limits;
@@ -197,7 +202,7 @@ int cli_main(int argc, char** argv) {
     }
     throw std::invalid_argument("unknown command \"" + command + "\"");
   } catch (const std::invalid_argument& e) {
-    std::cerr << "hotend-sim: " << e.what() << "\n" << kUsage;
+    std::cerr << "hotend-sim: " << e.what() << "\n(hotend-sim --help shows the usage)\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "hotend-sim: " << e.what() << "\n";

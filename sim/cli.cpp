@@ -14,6 +14,7 @@
 #include "sim/report.h"
 #include "sim/run_files.h"
 #include "sim/sim_run.h"
+#include "sim/svg_plot.h"
 
 namespace sim {
 namespace {
@@ -30,6 +31,7 @@ const char* const kUsage = R"(usage:
              [--jobs N] [--noise-lsb SIGMA] [--seed N] [--gains P,I,D | --gains-rule RULE]
              [--gcode "CMD@T"] [--variant NAME=GCODE]... [--csv-dir DIR] [--elf-dir DIR]
   hotend-sim list
+  hotend-sim plot --out FILE.svg [--title TEXT] RUN.csv...
 
 run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the untimed --gcode
   commands, M155 S1 and M104 S<target>; the heating start t0 is the firmware's `ok` to M104 and
@@ -45,13 +47,15 @@ bench: every board × plant (or the given ones) in parallel, at each plant's def
   duration (or --target/--seconds for all); prints one table (with disturbance columns when
   --gcode has a timed command) and under it every problem or Error: line. Each --variant runs
   the grid again with its untimed G-code (e.g. a controller choice or its own M301).
+plot: temperature and heater duty of several --csv runs against time in one SVG.
 )";
 
 // This build's image for the board; says how to make it when it is missing.
 std::string default_elf_path(const std::string& dir, const BoardSpec& board) {
   const std::string path = dir + "/firmware-" + board.id + ".elf";
   if (!std::filesystem::exists(path))
-    throw std::runtime_error("no firmware image " + path + " (build it: cmake --build <build dir> --target firmware)");
+    throw std::runtime_error("no firmware image " + path +
+                             " (build it: cmake --build <build dir> --target firmware)");
   return path;
 }
 
@@ -159,6 +163,27 @@ int bench_command(const std::vector<std::string>& args) {
   return 0;
 }
 
+// hotend-sim plot --out FILE.svg [--title T] RUN.csv...: labels are the file names' stems.
+int plot_command(const std::vector<std::string>& args) {
+  std::vector<std::string> csvs, rest;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i].rfind("--", 0) == 0) {
+      rest.push_back(args[i]);
+      if (i + 1 < args.size() && args[i].find('=') == std::string::npos) rest.push_back(args[++i]);
+    } else {
+      csvs.push_back(args[i]);
+    }
+  }
+  const Options o = parse_options(rest, {});
+  reject_unknown(o, {"out", "title"});
+  if (!o.has("out") || csvs.empty()) throw std::invalid_argument("plot wants --out FILE.svg and CSV files");
+  std::vector<PlotSeries> series;
+  for (const std::string& csv : csvs)
+    series.push_back(read_trace_csv(csv, std::filesystem::path(csv).stem()));
+  write_svg_plot(o.get("out"), o.get("title", "hotend-sim runs"), series);
+  return 0;
+}
+
 int list_command() {
   std::cout << "boards:\n";
   for (const BoardSpec& b : all_boards())
@@ -196,6 +221,7 @@ int cli_main(int argc, char** argv) {
     if (command == "run") return run_command(args);
     if (command == "bench") return bench_command(args);
     if (command == "list") return list_command();
+    if (command == "plot") return plot_command(args);
     if (command == "help") {
       std::cout << kUsage;
       return 0;

@@ -1,0 +1,45 @@
+// The trace CSV written by --csv is what `plot` reads back.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "sim/run_files.h"
+#include "sim/svg_plot.h"
+
+namespace sim {
+namespace {
+
+TEST(RunFiles, TraceCsvRoundTripsThroughThePlotReader) {
+  std::vector<TraceSample> trace(3);
+  for (int i = 0; i < 3; ++i) {
+    trace[i].t_s = 0.1 * (i + 1);
+    trace[i].true_c = 25.0 + i;
+    trace[i].sensor_c = 25.5 + i;
+    trace[i].reported_c = i ? 25.0 : std::numeric_limits<double>::quiet_NaN();  // no report yet
+    trace[i].target_c = 210.0;
+    trace[i].heater_duty = 0.25 * i;
+  }
+  const std::string path = ::testing::TempDir() + "trace.csv";
+  write_trace_csv(path, trace);
+  const PlotSeries s = read_trace_csv(path, "run");
+  std::remove(path.c_str());
+  ASSERT_EQ(s.time_s.size(), 3u);
+  EXPECT_DOUBLE_EQ(s.time_s[2], 0.3);
+  EXPECT_DOUBLE_EQ(s.true_c[1], 26.0);
+  EXPECT_DOUBLE_EQ(s.target_c[0], 210.0);
+  EXPECT_DOUBLE_EQ(s.heater_duty[2], 50.0);  // plotted in %
+}
+
+TEST(RunFiles, PlotReaderRejectsOtherFiles) {
+  const std::string path = ::testing::TempDir() + "other.csv";
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  std::fputs("a,b\n1,2\n", f);
+  std::fclose(f);
+  EXPECT_THROW(read_trace_csv(path, "x"), std::runtime_error);
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace sim

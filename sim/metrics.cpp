@@ -50,6 +50,7 @@ Metrics compute_metrics(const std::vector<TraceSample>& trace, double t0_s, doub
     sum += trace[i].true_c - target_c;
     lo = std::min(lo, trace[i].true_c);
     hi = std::max(hi, trace[i].true_c);
+    m.steady_ripple_c = std::max(m.steady_ripple_c, trace[i].true_ripple_c);
   }
   m.steady_from_s = trace[steady_begin].t_s - t0_s;
   m.steady_to_s = trace[end - 1].t_s - t0_s;

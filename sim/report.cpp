@@ -77,7 +77,8 @@ void print_report(std::ostream& out, const RunResult& r) {
       out << "physical bound     target unreachable at 100 % heater power\n";
     out << "steady state       " << format_fixed(m.steady_from_s, 0) << "–" << format_fixed(m.steady_to_s, 0)
         << " s: mean error " << format_fixed(m.steady_mean_error_c, 3) << " °C, peak-to-peak "
-        << format_fixed(m.steady_peak_to_peak_c, 3) << " °C\n"
+        << format_fixed(m.steady_peak_to_peak_c, 3) << " °C (PWM ripple within a period "
+        << format_fixed(m.steady_ripple_c, 3) << " °C)\n"
         << "IAE                " << format_fixed(m.iae_c_s, 1) << " °C·s\n";
     if (m.disturbance)
       out << "after " << format_fixed(m.disturbance->at_s, 0) << " s        max |error| "

@@ -1,5 +1,5 @@
-// Writes a run's records to files: the trace as CSV for plotting (one row per 0.1 s of
-// simulated time) and the serial transcript as text.
+// Writes a run's records to files: the trace as CSV for plotting (one row per heater PWM
+// period, 128 ms) and the serial transcript as text.
 #pragma once
 
 #include <string>

@@ -15,7 +15,10 @@ namespace {
 
 constexpr uint32_t kPlantStepUs = 1000;  // plant and host are serviced every simulated ms
 constexpr double kPlantStepS = kPlantStepUs * 1e-6;
-constexpr int kStepsPerTraceSample = 100;  // trace every 0.1 s
+// One trace sample per heater PWM period of the firmware (brief: 128 ticks of 1 ms, and the
+// plant steps are aligned with the ticks): per-sample means of the true temperature and the
+// duty are then free of the PWM ripple a single-lag model shows (±0.3 °C on seed002).
+constexpr int kStepsPerTraceSample = 128;
 // A T: report may describe the mean over the last control period (128 ms), printed up to one
 // more period later: it is compared with the true temperature over this window before it.
 constexpr double kReportLatencyS = 0.3;
@@ -76,6 +79,9 @@ class Runner {
   // Trace accumulators over one sample period.
   int trace_steps_ = 0;
   double heater_sum_ = 0.0, fan_sum_ = 0.0;
+  double true_sum_ = 0.0;
+  double true_min_ = std::numeric_limits<double>::infinity();
+  double true_max_ = -std::numeric_limits<double>::infinity();
   double code_sum_ = 0.0;
   int code_count_ = 0;
   double reported_c_ = std::numeric_limits<double>::quiet_NaN();
@@ -121,11 +127,15 @@ void Runner::on_plant_step() {
   const double fan = board_.fan().take_duty(now_cycle);
   plant_.step(PlantInput{heater, fan});
 
-  recent_true_.emplace_back(now, plant_.temperature_c());
+  const double true_c = plant_.temperature_c();
+  recent_true_.emplace_back(now, true_c);
   while (recent_true_.front().first < now - kReportLatencyS) recent_true_.pop_front();
 
   heater_sum_ += heater;
   fan_sum_ += fan;
+  true_sum_ += true_c;
+  true_min_ = std::min(true_min_, true_c);
+  true_max_ = std::max(true_max_, true_c);
   if (++trace_steps_ == kStepsPerTraceSample) record_trace(now);
 
   send_due_commands(now);
@@ -185,7 +195,8 @@ void Runner::check_report(const TempReport& report) {
 void Runner::record_trace(double now_s) {
   TraceSample s;
   s.t_s = now_s;
-  s.true_c = plant_.temperature_c();
+  s.true_c = true_sum_ / trace_steps_;
+  s.true_ripple_c = true_max_ - true_min_;
   s.sensor_c = code_count_ ? adc_.temperature_for_code(code_sum_ / code_count_)
                            : std::numeric_limits<double>::quiet_NaN();
   s.reported_c = reported_c_;
@@ -194,7 +205,9 @@ void Runner::record_trace(double now_s) {
   s.fan_duty = fan_sum_ / trace_steps_;
   result_.trace.push_back(s);
   trace_steps_ = 0;
-  heater_sum_ = fan_sum_ = code_sum_ = 0.0;
+  heater_sum_ = fan_sum_ = code_sum_ = true_sum_ = 0.0;
+  true_min_ = std::numeric_limits<double>::infinity();
+  true_max_ = -std::numeric_limits<double>::infinity();
   code_count_ = 0;
 }
 

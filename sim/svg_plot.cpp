@@ -11,7 +11,6 @@ namespace {
 
 constexpr double kWidth = 900, kPanelHeight = 260, kLeft = 60, kRight = 20, kTop = 40, kGap = 50;
 constexpr std::size_t kMaxPoints = 1500;  // per polyline: buckets are averaged down to this
-constexpr double kDutySmoothingS = 1.28;  // 10 heater PWM periods: the trace's 0.1 s means beat with 128 ms
 const char* const kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2"};
 
 struct Axis {
@@ -71,21 +70,6 @@ std::string panel_frame(const Axis& tx, const Axis& ay, double top, const std::s
   return out.str();
 }
 
-// Centred moving average over `window_s` (the samples are evenly spaced in time).
-std::vector<double> smoothed(const std::vector<double>& t, const std::vector<double>& y, double window_s) {
-  if (t.size() < 2) return y;
-  const std::size_t half = static_cast<std::size_t>(window_s / (t[1] - t[0]) / 2.0);
-  std::vector<double> out(y.size());
-  double sum = 0.0;
-  std::size_t lo = 0, hi = 0;  // the window is [lo, hi)
-  for (std::size_t i = 0; i < y.size(); ++i) {
-    while (hi < y.size() && hi <= i + half) sum += y[hi++];
-    while (lo + half < i) sum -= y[lo++];
-    out[i] = sum / double(hi - lo);
-  }
-  return out;
-}
-
 }  // namespace
 
 PlotSeries read_trace_csv(const std::string& path, const std::string& label) {
@@ -135,17 +119,16 @@ void write_svg_plot(const std::string& path, const std::string& title,
       << "<text x=\"" << kWidth / 2 << "\" y=\"18\" text-anchor=\"middle\" font-size=\"15\">" << title
       << "</text>\n"
       << panel_frame(tx, ay, kTop, "true temperature °C (target dashed)")
-      << panel_frame(tx, au, top2, "heater duty % (mean over 1.28 s)") << "<text x=\"" << kWidth / 2
+      << panel_frame(tx, au, top2, "heater duty % (mean per PWM period)") << "<text x=\"" << kWidth / 2
       << "\" y=\"" << top2 + kPanelHeight + 34 << "\" text-anchor=\"middle\">time since power-on, s</text>\n";
   for (std::size_t i = 0; i < series.size(); ++i) {
     const PlotSeries& s = series[i];
     const char* colour = kColours[i % (sizeof kColours / sizeof *kColours)];
     out << polyline(s.time_s, s.true_c, tx, ay, kTop, colour)
         << polyline(s.time_s, s.target_c, tx, ay, kTop, colour, "stroke-dasharray=\"4 3\"")
-        << polyline(s.time_s, smoothed(s.time_s, s.heater_duty, kDutySmoothingS), tx, au, top2, colour)
-        << "<text x=\"" << kWidth - kRight - 8 << "\" y=\""
-        << kTop + kPanelHeight - 10 - 15.0 * (series.size() - 1 - i) << "\" text-anchor=\"end\" fill=\""
-        << colour << "\">" << s.label << "</text>\n";
+        << polyline(s.time_s, s.heater_duty, tx, au, top2, colour) << "<text x=\"" << kWidth - kRight - 8
+        << "\" y=\"" << kTop + kPanelHeight - 10 - 15.0 * (series.size() - 1 - i)
+        << "\" text-anchor=\"end\" fill=\"" << colour << "\">" << s.label << "</text>\n";
   }
   out << "</svg>\n";
 }

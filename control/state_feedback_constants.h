@@ -1,0 +1,90 @@
+// The fixed-point constants of the state-feedback controller: produced by the host design
+// (control/state_feedback_quantize.h, `hotend-design`), consumed by control/state_feedback.cpp.
+// Portable (AVR and host), no floating point.
+//
+// Signals inside the controller are int32 "Q16 of their unit":
+//   temperatures (model states x, set point, innovation)  °C above ambient × 2^16
+//   duty-like signals (input bias d̂, plant input v)       duty × 2^(16+p), p = input_shift
+// p makes 100 % duty about as large as the plant's full-power rise in °C (2^p ≈ DC gain), so
+// every row below mixes numbers of similar size and one exponent per row keeps precision.
+// Every coefficient is an int16 mantissa m with its row's shift s: value = m / 2^s.
+#pragma once
+
+#include <stdint.h>
+
+namespace control {
+
+constexpr uint8_t kSfMaxStates = 5;  // seed000's 5-state model
+constexpr uint8_t kSfMaxDelay = 32;  // input-history samples (RAM: 2 bytes each, twice)
+constexpr uint8_t kSfFirChunk = 16;  // predictor taps summed per step() call
+
+// The law runs every `decimation` calls; the calls in between do its other work, so no single
+// call exceeds the cycle budget: call 0 measurement update + law, call 1 the model's time update,
+// calls 2.. the predictor sum for the next law update, kSfFirChunk taps each.
+constexpr uint8_t state_feedback_min_decimation(uint8_t delay) {
+  return static_cast<uint8_t>(2 + (delay + kSfFirChunk - 1) / kSfFirChunk);
+}
+
+struct StateFeedbackConstants {
+  uint8_t n;            // model states, 1..kSfMaxStates
+  uint8_t output_mask;  // modelled sensor rise = Σ x_j over set bits j
+  uint8_t delay;        // D: periods of input dead time the observer and predictor use
+  uint8_t decimation;   // law period in step() calls (× 128 ms), >= state_feedback_min_decimation
+  uint8_t input_shift;  // p above (<= 10)
+  int32_t ambient_q8;   // temperature the model calls 0 (°C × 256)
+
+  // Observer time update, row i < n (delta form, so slow poles keep their precision):
+  //   x_i += (phi_diag[i]·x_i + phi_off[i]·x_{phi_col[i]} + gamma_a[i]·v_a + gamma_b[i]·v_b)
+  //          / 2^phi_shift[i]
+  //   with phi_diag/phi_off the entries of Φ − I. The design's realisations (modal form, two
+  //   lags or two nodes) couple each state to at most one other; v_a = u[k−D] + d̂ (+ fan term),
+  //   v_b = u[k−D+1] + d̂ (…), in duty Q(16+p).
+  int16_t phi_diag[kSfMaxStates];
+  int16_t phi_off[kSfMaxStates];
+  uint8_t phi_col[kSfMaxStates];
+  int16_t gamma_a[kSfMaxStates];
+  int16_t gamma_b[kSfMaxStates];
+  uint8_t phi_shift[kSfMaxStates];
+
+  // Observer measurement update with e = y − Σ masked x (°C Q16):
+  //   x_i += obs_gain[i]·e / 2^obs_shift[i];   d̂ += obs_gain[n]·e / 2^obs_shift[n].
+  int16_t obs_gain[kSfMaxStates + 1];
+  uint8_t obs_shift[kSfMaxStates + 1];
+
+  // Control law in duty Q(16+p):
+  //   v = (ff_gain·r − Σ fb_gain[j]·x_j − bias_gain·d̂) / 2^ctrl_shift − Σ_j fir[j−1]·u[k−j] /
+  //   2^fir_shift (the fir products are duty Q16 × mantissa, scaled to Q(16+p) by fir_shift)
+  int16_t fb_gain[kSfMaxStates];  // L·Φ^D · 2^p
+  int16_t ff_gain;                // M · 2^p
+  int16_t bias_gain;              // g_d = 1 + Σ h_j
+  uint8_t ctrl_shift;
+  int16_t fir[kSfMaxDelay];  // h_j · 2^p
+  uint8_t fir_shift;
+
+  // Part-fan feedforward: extra loss = fan_gain · (fan/255) · rise, in duty Q(16+p) per °C Q8.
+  int16_t fan_gain;
+  uint8_t fan_shift;
+
+  // Steady state per °C of sensor rise, for bumpless start: x_j = share[j]·rise,
+  // v = inv_gain·rise (duty Q(16+p) per °C Q16).
+  int16_t ss_share[kSfMaxStates];
+  uint8_t ss_share_shift;
+  int16_t inv_gain;
+  uint8_t inv_gain_shift;
+};
+
+// Range checks the runtime relies on (shifts within what the arithmetic supports, sizes).
+inline bool state_feedback_constants_valid(const StateFeedbackConstants& k) {
+  if (k.n < 1 || k.n > kSfMaxStates || k.delay > kSfMaxDelay) return false;
+  if (k.decimation < state_feedback_min_decimation(k.delay)) return false;
+  if (k.input_shift > 10 || k.output_mask == 0) return false;
+  if (k.output_mask >> k.n) return false;
+  for (uint8_t i = 0; i < k.n; ++i)  // <= 40: the carried residual stays below 2^24
+    if (k.phi_shift[i] > 40 || k.phi_col[i] >= k.n) return false;
+  for (uint8_t i = 0; i <= k.n; ++i)
+    if (k.obs_shift[i] > 46) return false;
+  return k.ctrl_shift <= 46 && k.fir_shift <= 46 && k.fan_shift <= 46 && k.ss_share_shift <= 46 &&
+         k.inv_gain_shift <= 46;
+}
+
+}  // namespace control

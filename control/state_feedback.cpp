@@ -1,0 +1,227 @@
+// Fixed-point state feedback (see state_feedback.h). Arithmetic notes:
+// - every product is int16 mantissa × int32 signal rounded to 32 bits (state_feedback_math.h);
+//   a row is summed at its own exponent and shifted once (no 64-bit arithmetic, no division);
+// - signals are clamped to ±2^27 (and intermediate sums stay below 2^28), so a row of <= 7
+//   products cannot overflow int32;
+// - the time update carries the bits it shifts out (residual_) into the next period: slow poles
+//   (1 − λ ≈ 1e-4) would otherwise park the state anywhere in a ±0.5 LSB/(1 − λ) dead band;
+// - `>>` on negative int32 is arithmetic (floor) with gcc and avr-gcc, which the rounding uses.
+#include "control/state_feedback.h"
+
+#include "control/state_feedback_math.h"
+
+namespace control {
+namespace {
+
+using sf::mulhi16;  // round(m·x / 2^16)
+
+constexpr int32_t kSignalLimit = int32_t(1) << 27;  // ±2048 °C in Q16
+
+inline int32_t clamp_abs(int32_t v, int32_t limit) {
+  return v > limit ? limit : (v < -limit ? -limit : v);
+}
+
+// 2^sh (0 <= sh <= 31) and arithmetic shift right: whole bytes first (register moves on AVR),
+// then at most 7 single-bit steps. The design picks byte-aligned exponents for the observer
+// gains (the busiest call), so those shifts are register moves.
+inline uint32_t pow2(uint8_t sh) {
+  uint32_t v = 1;
+  if (sh >= 16) {
+    v = uint32_t(1) << 16;
+    sh -= 16;
+  }
+  if (sh >= 8) {
+    v <<= 8;
+    sh -= 8;
+  }
+  while (sh--) v <<= 1;
+  return v;
+}
+
+inline int32_t asr(int32_t v, uint8_t sh) {
+  if (sh > 31) sh = 31;
+  if (sh >= 16) {
+    v >>= 16;
+    sh -= 16;
+  }
+  if (sh >= 8) {
+    v >>= 8;
+    sh -= 8;
+  }
+  while (sh--) v >>= 1;
+  return v;
+}
+
+// v·2^n saturating at ±2^28 (bytes first): the law's terms M·r and L·x can each be hundreds
+// of times full power before they cancel.
+inline int32_t shl_sat(int32_t v, uint8_t n) {
+  constexpr int32_t kLimit = int32_t(1) << 28;
+  for (; n >= 8; n -= 8) {
+    if (v >= (kLimit >> 8) || v <= -(kLimit >> 8)) return v < 0 ? -kLimit : kLimit;
+    v *= 256;
+  }
+  for (; n != 0; --n) {
+    if (v >= (kLimit >> 1) || v <= -(kLimit >> 1)) return v < 0 ? -kLimit : kLimit;
+    v *= 2;
+  }
+  return v;
+}
+
+// v·2^−sh: rounded half up for sh > 0 (|v| < 2^30 here), saturating shl_sat for sh <= 0.
+inline int32_t scale(int32_t v, int8_t sh) {
+  if (sh > 0)
+    return asr(v + static_cast<int32_t>(pow2(static_cast<uint8_t>(sh)) >> 1),
+               static_cast<uint8_t>(sh));
+  return shl_sat(v, static_cast<uint8_t>(-sh));
+}
+
+// Mantissa exponents are stored as shifts from the Q16 product (value = m / 2^shift).
+inline int8_t exponent(uint8_t shift) { return static_cast<int8_t>(shift) - 16; }
+
+inline int32_t to_q16(int32_t temp_q8) { return clamp_abs(temp_q8, kSignalLimit >> 8) * 256; }
+
+}  // namespace
+
+bool StateFeedback::configure(const StateFeedbackConstants& k) {
+  if (!state_feedback_constants_valid(k)) return false;
+  k_ = k;
+  configured_ = true;
+  reset();
+  return true;
+}
+
+void StateFeedback::reset() {
+  primed_ = false;
+  phase_ = 0;
+  duty_q16_ = 0;
+}
+
+void StateFeedback::init_bumpless(int32_t measured_q8, uint16_t duty_q16) {
+  if (configured_) prime(measured_q8, duty_q16, false);
+}
+
+// Observer at the steady state of the measured temperature under `duty_q16`; after reset the
+// bias is zeroed instead (the heater was off: the plant is assumed to be cooling freely).
+void StateFeedback::prime(int32_t measured_q8, uint16_t duty_q16, bool zero_bias) {
+  const int32_t rise = to_q16(measured_q8 - k_.ambient_q8);
+  for (uint8_t i = 0; i < k_.n; ++i) {
+    x_q16_[i] = scale(mulhi16(k_.ss_share[i], rise), exponent(k_.ss_share_shift));
+    residual_[i] = 0;
+  }
+  const int32_t v = scale(mulhi16(k_.inv_gain, rise), exponent(k_.inv_gain_shift));
+  const int32_t u = static_cast<int32_t>(duty_q16) << k_.input_shift;
+  bias_ = zero_bias ? 0 : clamp_abs(v - u, static_cast<int32_t>(pow2(16 + k_.input_shift)));
+  for (uint8_t j = 0; j <= kSfMaxDelay; ++j) hist_[j] = duty_q16;
+  head_ = 0;
+  duty_q16_ = duty_q16;
+  phase_ = k_.delay > 0 ? 2 : 0;  // predictor sum first (its chunks), then the first law update
+  primed_ = true;
+}
+
+uint16_t StateFeedback::history(uint8_t j) const {
+  const uint8_t idx = head_ >= j ? head_ - j : head_ + (kSfMaxDelay + 1) - j;
+  return hist_[idx];
+}
+
+uint16_t StateFeedback::step(const StepInput& in) {
+  if (!configured_) return 0;
+  if (!primed_) {  // a call of its own, so no call does priming and a law update
+    prime(in.measured_q8, 0, true);
+    return duty_q16_;
+  }
+  const uint8_t phase = phase_;
+  phase_ = phase + 1 >= k_.decimation ? 0 : phase + 1;
+  if (phase == 0) {
+    law_update(in);
+  } else if (phase == 1) {
+    time_update();
+  } else if (static_cast<uint8_t>(phase - 2) * kSfFirChunk < k_.delay) {
+    fir_chunk(phase - 2);
+  }
+  return duty_q16_;  // held for the whole law period (ZOH at decimation × 128 ms)
+}
+
+void StateFeedback::law_update(const StepInput& in) {
+  const uint8_t n = k_.n;
+  int32_t* x = x_q16_;
+  // Measurement update.
+  const int32_t y = to_q16(in.measured_q8 - k_.ambient_q8);
+  int32_t y_model = 0;
+  uint8_t bit = 1;
+  for (uint8_t j = 0; j < n; ++j, bit <<= 1)
+    if (k_.output_mask & bit) y_model += x[j];
+  const int32_t e = clamp_abs(y - y_model, kSignalLimit);
+  const int16_t* gain = k_.obs_gain;
+  const uint8_t* shift = k_.obs_shift;
+  for (uint8_t i = 0; i < n; ++i)
+    x[i] = clamp_abs(x[i] + scale(mulhi16(gain[i], e), exponent(shift[i])), kSignalLimit);
+  bias_ = clamp_abs(bias_ + scale(mulhi16(gain[n], e), exponent(shift[n])),
+                    static_cast<int32_t>(pow2(16 + k_.input_shift)));  // ±100 % duty
+  // Known part-fan loss (−gain·fan·rise) joins the bias the law cancels and the model is fed.
+  int32_t b = bias_;
+  if (k_.fan_gain != 0 && in.fan_duty != 0 && y > 0) {
+    const int32_t rise_fan = (y >> 8) * static_cast<int32_t>(in.fan_duty);  // °C Q8 × 0..255
+    b = clamp_abs(b - scale(mulhi16(k_.fan_gain, rise_fan), exponent(k_.fan_shift)), kSignalLimit);
+  }
+  b_ = b;
+  // Law on the predicted state, straight to duty Q16: M r − L_D x̂ − g_d b − Σ h_j u[k−j].
+  const int32_t r = to_q16(in.target_q8 - k_.ambient_q8);
+  int32_t acc = mulhi16(k_.ff_gain, r) - mulhi16(k_.bias_gain, b);
+  for (uint8_t j = 0; j < n; ++j)
+    if (k_.fb_gain[j] != 0) acc -= mulhi16(k_.fb_gain[j], x[j]);
+  const int8_t p = static_cast<int8_t>(k_.input_shift);
+  int32_t u = scale(acc, static_cast<int8_t>(exponent(k_.ctrl_shift) + p));
+  if (k_.delay > 0)
+    u -= scale(fir_, static_cast<int8_t>(static_cast<int8_t>(k_.fir_shift) + p - 8));
+  u = u < 0 ? 0 : (u > 65535 ? 65535 : u);
+  duty_q16_ = static_cast<uint16_t>(u);
+  head_ = head_ == kSfMaxDelay ? 0 : head_ + 1;
+  hist_[head_] = duty_q16_;
+}
+
+// x̂[k+1] from x̂[k] and the applied duty: every row reads the old vector, so all deltas are
+// formed before any state changes.
+void StateFeedback::time_update() {
+  const uint8_t n = k_.n;
+  const uint8_t p = k_.input_shift;
+  const int32_t va = clamp_abs((static_cast<int32_t>(history(k_.delay)) << p) + b_, kSignalLimit);
+  const int32_t vb =
+      k_.delay > 0
+          ? clamp_abs((static_cast<int32_t>(history(k_.delay - 1)) << p) + b_, kSignalLimit)
+          : va;
+  int32_t delta[kSfMaxStates];
+  for (uint8_t i = 0; i < n; ++i) {
+    int32_t acc = mulhi16(k_.phi_diag[i], x_q16_[i]);
+    if (k_.phi_off[i] != 0) acc += mulhi16(k_.phi_off[i], x_q16_[k_.phi_col[i]]);
+    if (k_.gamma_a[i] != 0) acc += mulhi16(k_.gamma_a[i], va);
+    if (k_.gamma_b[i] != 0) acc += mulhi16(k_.gamma_b[i], vb);
+    const int8_t sh = exponent(k_.phi_shift[i]);
+    if (sh > 0) {  // floor shift; the bits shifted out wait for the next period
+      const int32_t t = acc + static_cast<int32_t>(residual_[i]);
+      delta[i] = asr(t, static_cast<uint8_t>(sh));
+      residual_[i] = static_cast<uint32_t>(t) & (pow2(static_cast<uint8_t>(sh)) - 1);
+    } else {
+      delta[i] = scale(acc, sh);
+    }
+  }
+  for (uint8_t i = 0; i < n; ++i) x_q16_[i] = clamp_abs(x_q16_[i] + delta[i], kSignalLimit);
+}
+
+// Taps j = 16c+1 .. 16c+16 (<= D) of Σ h_j·u[k+1−j] for the next law update; u[k] is at head_.
+// Products are pre-shifted by 8 so 32 of them fit in int32.
+void StateFeedback::fir_chunk(uint8_t chunk) {
+  if (chunk == 0) fir_ = 0;
+  const uint8_t first = chunk * kSfFirChunk;  // tap index j − 1
+  uint8_t count = k_.delay - first;
+  if (count > kSfFirChunk) count = kSfFirChunk;
+  const int16_t* h = &k_.fir[first];
+  const uint16_t* u = &hist_[head_ >= first ? head_ - first : head_ + (kSfMaxDelay + 1) - first];
+  int32_t sum = fir_;
+  for (; count != 0; --count) {
+    sum += (static_cast<int32_t>(*h++) * static_cast<int32_t>(*u)) >> 8;
+    u = u == hist_ ? &hist_[kSfMaxDelay] : u - 1;
+  }
+  fir_ = sum;
+}
+
+}  // namespace control

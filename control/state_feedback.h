@@ -1,0 +1,59 @@
+// State feedback + static-gain feedforward with an observer and a dead-time predictor (seed 000,
+// made practical), in fixed point. The constants come from the host design (`hotend-design`,
+// control/state_feedback_quantize.h); their Q formats are documented in
+// control/state_feedback_constants.h and docs/state_feedback.md. Portable, float-free.
+//
+// Each law period (decimation × 128 ms, spread over the period's step() calls):
+//   call 0: innovation e = y − Σ x̂ (masked)  → x̂ += K e, d̂ += K_d e    (current observer)
+//           u = clamp(M r − L_D x̂ − g_d (d̂ + fan) − Σ h_j u[k−j], 0..100 %)  (predictive law)
+//   call 1: x̂ ← x̂ + (Φ−I) x̂ + Γa (u[k−D] + d̂ + fan) + Γb (u[k−D+1] + d̂ + fan)  (time update)
+//   2.. : Σ h_j u[k+1−j] for the next law update, kSfFirChunk taps per call
+// The observer and predictor use the applied (clamped) duty and nothing integrates the control
+// error, so nothing winds up at 0 %/100 %; d̂ (input bias: model error, ambient, unmodelled
+// loss) is clamped to ±100 % duty.
+#pragma once
+
+#include <stdint.h>
+
+#include "control/controller.h"
+#include "control/state_feedback_constants.h"
+
+namespace control {
+
+class StateFeedback final : public Controller {
+ public:
+  // Copies the constants; false (and nothing changes) if they fail the range checks.
+  bool configure(const StateFeedbackConstants& k);
+  const StateFeedbackConstants& constants() const { return k_; }
+  bool configured() const { return configured_; }
+
+  uint16_t step(const StepInput& in) override;
+  void reset() override;
+  void init_bumpless(int32_t measured_q8, uint16_t duty_q16) override;
+
+  // Introspection for tests and M503-style reports.
+  int32_t state_q16(uint8_t i) const { return x_q16_[i]; }  // °C above ambient × 2^16
+  int32_t bias_q16p() const { return bias_; }               // duty × 2^(16+p)
+
+ private:
+  void prime(int32_t measured_q8, uint16_t duty_q16, bool zero_bias);
+  void law_update(const StepInput& in);
+  void time_update();
+  void fir_chunk(uint8_t chunk);
+  uint16_t history(uint8_t j) const;  // u[k−j], k = the last law update
+
+  StateFeedbackConstants k_ = {};
+  int32_t x_q16_[kSfMaxStates] = {};
+  uint32_t residual_[kSfMaxStates] = {};  // time-update bits below Q16, carried (no dead band)
+  int32_t bias_ = 0;                      // d̂, duty Q(16+p)
+  int32_t b_ = 0;                         // d̂ + fan term used by the last law update
+  int32_t fir_ = 0;                       // Σ h_j u[k+1−j] (pre-shifted by 8), next law update
+  uint16_t hist_[kSfMaxDelay + 1] = {};   // ring of applied duties, duty_q16
+  uint8_t head_ = 0;                      // index of u[k] in hist_
+  uint8_t phase_ = 0;                     // which call of the law period comes next
+  uint16_t duty_q16_ = 0;
+  bool configured_ = false;
+  bool primed_ = false;
+};
+
+}  // namespace control

@@ -1,0 +1,119 @@
+// The fixed-point state-feedback controller in closed loop on the plant bank (exact continuous
+// plants with their dead time, heater clamped to 0–100 %, temp_q8 readings): it tracks the
+// double-precision reference, heats without overshoot close to the full-power bound, and leaves
+// no offset under fan, disturbance, model-gain error and saturation.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <initializer_list>
+
+#include "host_tests/test_state_feedback_loop.h"
+
+namespace {
+
+using namespace sf_test;
+
+// Fastest possible arrival: full power from ambient (the design model itself), plus dead time.
+double arrival_bound_s(const Plant& p, double target_c) {
+  return full_power_rise_time(p.model, target_c - 25.0) + p.model.delay_s;
+}
+
+TEST(StateFeedbackClosedLoop, FixedPointTracksTheDoubleReference) {
+  Scenario s;
+  s.noise_c = 0.05;  // identical noise sequences on both plants
+  for (int i = 0; i < kPlantCount; ++i) {
+    const Plant p = plant(i);
+    SCOPED_TRACE(p.name);
+    Loop loop(p, s);
+    ASSERT_EQ(loop.error(), nullptr);
+    const Metrics m = loop.run(true);
+    EXPECT_LT(m.max_dev_ref_c, 0.3);
+  }
+}
+
+TEST(StateFeedbackClosedLoop, HeatsWithoutOvershootNearTheFullPowerBound) {
+  Scenario s;
+  s.noise_c = 0.05;
+  for (int i = 0; i < kPlantCount; ++i) {
+    const Plant p = plant(i);
+    SCOPED_TRACE(p.name);
+    Loop loop(p, s);
+    const Metrics m = loop.run(false);
+    const double bound = arrival_bound_s(p, p.target_c);
+    EXPECT_LE(m.overshoot_c, 1.0);
+    EXPECT_LE(m.settle_s, 1.3 * bound) << "bound " << bound;
+    EXPECT_LT(std::fabs(m.mean_error_c), 0.05);
+    EXPECT_LT(m.p2p_c, 0.5);
+  }
+}
+
+TEST(StateFeedbackClosedLoop, FanStepLeavesNoOffsetOnTheTwoNodeHotend) {
+  for (bool feedforward : {false, true}) {
+    SCOPED_TRACE(feedforward ? "with fan feedforward" : "observer only");
+    Scenario s;
+    s.noise_c = 0.05;
+    s.event_s = 250;
+    s.event_fan = true;
+    s.use_fan_feedforward = feedforward;
+    Loop loop(plant(3), s);
+    const Metrics m = loop.run(false);
+    EXPECT_LE(m.max_dip_c, feedforward ? 0.5 : 2.0);
+    EXPECT_LT(std::fabs(m.final_error_c), 0.2);
+  }
+}
+
+// A constant unmodelled input disturbance (−5 % duty, e.g. a draught) on every plant.
+TEST(StateFeedbackClosedLoop, ConstantDisturbanceLeavesNoOffset) {
+  for (int i = 0; i < kPlantCount; ++i) {
+    Plant p = plant(i);
+    SCOPED_TRACE(p.name);
+    Scenario s;
+    s.event_s = p.seconds;
+    s.event_disturbance = -0.05;
+    p.seconds *= 2;
+    Loop loop(p, s);
+    const Metrics m = loop.run(false);
+    EXPECT_LT(std::fabs(m.final_error_c), 0.1);
+  }
+}
+
+TEST(StateFeedbackClosedLoop, ModelGainErrorLeavesNoOffset) {
+  for (double gain : {0.9, 1.1}) {
+    for (int i : {0, 3, 5}) {
+      const Plant p = plant(i);
+      SCOPED_TRACE(p.name);
+      Scenario s;
+      s.gain_error = gain;
+      Loop loop(p, s);
+      const Metrics m = loop.run(false);
+      EXPECT_LT(std::fabs(m.mean_error_c), 0.05) << "gain " << gain;
+    }
+  }
+}
+
+// Windup: the heater sits at 100 % with a plant 10 % weaker than the model (the bias estimate
+// must not run away while the heater is saturated), or at 0 % for minutes while the hotend
+// cools from 210 °C to 120 °C; neither may turn into overshoot or undershoot on arrival.
+TEST(StateFeedbackClosedLoop, SaturationDoesNotWindUp) {
+  for (int i : {0, 2, 3}) {
+    const Plant p = plant(i);
+    SCOPED_TRACE(p.name);
+    Scenario weak;
+    weak.gain_error = 0.9;
+    Loop a(p, weak);
+    EXPECT_LE(a.run(false).past_target_c, 1.0) << "heating, plant 10 % weaker";
+
+    Scenario cool;
+    cool.first_target_c = 210;
+    cool.first_until_s = p.seconds;
+    cool.target_c = 120;
+    Plant longer = p;
+    longer.seconds = 2 * p.seconds;
+    Loop b(longer, cool);
+    const Metrics m = b.run(false);
+    EXPECT_LE(m.past_target_c, 1.0) << "cooling with the heater off";
+    EXPECT_LT(std::fabs(m.final_error_c), 0.1);
+  }
+}
+
+}  // namespace

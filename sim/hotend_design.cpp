@@ -40,7 +40,8 @@ const char kUsage[] =
     "  --fan-loss L               duty lost per kelvin at 100 % fan (two-node: 7.25e-4)\n"
     "  --name IDENT               name of the emitted C++ constant (default kStateFeedback)\n"
     "  --target C                 closed-loop check target (default 210)\n"
-    "  --initializer-only         print only the C++ initializer (control/state_feedback_presets.h)\n";
+    "  --initializer-only         print only the C++ initializer "
+    "(control/state_feedback_presets.h)\n";
 
 bool parse_list(const char* text, std::vector<double>* out) {
   out->clear();
@@ -48,7 +49,8 @@ bool parse_list(const char* text, std::vector<double>* out) {
   size_t start = 0;
   while (start <= s.size()) {
     const size_t comma = s.find(',', start);
-    const std::string item = s.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    const std::string item =
+        s.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
     char* end = nullptr;
     out->push_back(std::strtod(item.c_str(), &end));
     if (item.empty() || (*end != '\0' && *end != ':')) return false;
@@ -86,7 +88,9 @@ void print_matrix(const char* name, const Mat& m) {
 
 void sort_poles(Cplx* p, int n) {  // by real part, then imaginary, descending
   for (int i = 1; i < n; ++i)
-    for (int j = i; j > 0 && (p[j].re > p[j - 1].re || (p[j].re == p[j - 1].re && p[j].im > p[j - 1].im)); --j) {
+    for (int j = i;
+         j > 0 && (p[j].re > p[j - 1].re || (p[j].re == p[j - 1].re && p[j].im > p[j - 1].im));
+         --j) {
       const Cplx t = p[j];
       p[j] = p[j - 1];
       p[j - 1] = t;
@@ -103,7 +107,8 @@ void print_poles(const char* name, const Cplx* wanted, int n, const Mat& closed,
   for (int i = 0; i < n; ++i) {
     const double mag = std::sqrt(cabs2(z[i]));
     std::printf("  wanted %10.6f%+10.6fj (s %9.5f)   achieved %10.6f%+10.6fj\n", z[i].re, z[i].im,
-                mag > 0 ? std::log(mag) / ts : -INFINITY, ok ? got[i].re : NAN, ok ? got[i].im : NAN);
+                mag > 0 ? std::log(mag) / ts : -INFINITY, ok ? got[i].re : NAN,
+                ok ? got[i].im : NAN);
   }
 }
 
@@ -111,7 +116,10 @@ void print_poles(const char* name, const Cplx* wanted, int n, const Mat& closed,
 void closed_loop_check(const LtiModel& m, const control::StateFeedbackConstants& k, double target_c,
                        int fan_state) {
   control::StateFeedback sf;
-  if (!sf.configure(k)) { std::printf("check: constants rejected by the runtime\n"); return; }
+  if (!sf.configure(k)) {
+    std::printf("check: constants rejected by the runtime\n");
+    return;
+  }
   PlantSim plant(m, fan_state);
   const double bound = full_power_rise_time(m, target_c - m.ambient_c) + m.delay_s;
   double peak = -1e9, settle = 0, duty_sum = 0;
@@ -124,12 +132,18 @@ void closed_loop_check(const LtiModel& m, const control::StateFeedbackConstants&
     plant.run(duty / 65535.0, 0.128);
     peak = std::fmax(peak, plant.true_c() - target_c);
     if (std::fabs(plant.true_c() - target_c) > 1.0) settle = t + 0.128;
-    if (t > seconds - 30) { duty_sum += duty / 655.35; ++n; }
+    if (t > seconds - 30) {
+      duty_sum += duty / 655.35;
+      ++n;
+    }
   }
-  std::printf("closed-loop check (fixed point, continuous plant, 25 -> %.0f C, no noise):\n", target_c);
-  std::printf("  overshoot %.2f K, settled into +-1 K at %.1f s (full power + dead time: %.1f s, ratio %.2f),\n"
-              "  final %.3f C, final duty %.1f %%\n",
-              peak, settle, bound, settle / bound, plant.true_c(), n ? duty_sum / n : 0.0);
+  std::printf("closed-loop check (fixed point, continuous plant, 25 -> %.0f C, no noise):\n",
+              target_c);
+  std::printf(
+      "  overshoot %.2f K, settled into +-1 K at %.1f s (full power + dead time: %.1f s, ratio "
+      "%.2f),\n"
+      "  final %.3f C, final duty %.1f %%\n",
+      peak, settle, bound, settle / bound, plant.true_c(), n ? duty_sum / n : 0.0);
 }
 
 }  // namespace
@@ -153,35 +167,83 @@ int main(int argc, char** argv) {
       }
       ++i;
     };
-    if (!std::strcmp(a, "--help") || !std::strcmp(a, "-h")) { std::printf("%s", kUsage); return 0; }
-    else if (!std::strcmp(a, "--fopdt")) { need(3); model = fopdt(v[0], v[1], v[2]); have_model = true; }
-    else if (!std::strcmp(a, "--second-order")) { need(3); model = second_order(v[0], v[1], v[2]); have_model = true; }
-    else if (!std::strcmp(a, "--two-node")) { model = two_node(); fan_state = 0; have_model = true; }
-    else if (!std::strcmp(a, "--seed000-4")) { model = seed000_4(); have_model = true; }
-    else if (!std::strcmp(a, "--seed000-5")) { model = seed000_5(); have_model = true; }
-    else if (!std::strcmp(a, "--poles")) { need(0); o.n_ctrl_poles = poles_from_list(v, o.ctrl_poles_s, kMaxAug); }
-    else if (!std::strcmp(a, "--observer-poles")) { need(0); o.n_obs_poles = poles_from_list(v, o.obs_poles_s, kMaxAug); }
-    else if (!std::strcmp(a, "--rise-fraction")) { need(1); o.rise_fraction = v[0]; }
-    else if (!std::strcmp(a, "--no-search")) { o.search_speed = false; }
-    else if (!std::strcmp(a, "--initializer-only")) { initializer_only = true; }
-    else if (!std::strcmp(a, "--overshoot")) { need(1); o.overshoot_limit_k = v[0]; }
-    else if (!std::strcmp(a, "--step")) { need(1); o.step_k = v[0]; }
-    else if (!std::strcmp(a, "--bias-tc")) { need(1); o.bias_tc_s = v[0]; }
-    else if (!std::strcmp(a, "--decimation")) { need(1); o.decimation = static_cast<int>(v[0]); }
-    else if (!std::strcmp(a, "--fan-loss")) { need(1); fan_loss = v[0]; }
-    else if (!std::strcmp(a, "--target")) { need(1); target_c = v[0]; }
-    else if (!std::strcmp(a, "--name") && val) { name = val; ++i; }
-    else { std::fprintf(stderr, "hotend-design: unknown argument %s\n%s", a, kUsage); return 2; }
+    if (!std::strcmp(a, "--help") || !std::strcmp(a, "-h")) {
+      std::printf("%s", kUsage);
+      return 0;
+    } else if (!std::strcmp(a, "--fopdt")) {
+      need(3);
+      model = fopdt(v[0], v[1], v[2]);
+      have_model = true;
+    } else if (!std::strcmp(a, "--second-order")) {
+      need(3);
+      model = second_order(v[0], v[1], v[2]);
+      have_model = true;
+    } else if (!std::strcmp(a, "--two-node")) {
+      model = two_node();
+      fan_state = 0;
+      have_model = true;
+    } else if (!std::strcmp(a, "--seed000-4")) {
+      model = seed000_4();
+      have_model = true;
+    } else if (!std::strcmp(a, "--seed000-5")) {
+      model = seed000_5();
+      have_model = true;
+    } else if (!std::strcmp(a, "--poles")) {
+      need(0);
+      o.n_ctrl_poles = poles_from_list(v, o.ctrl_poles_s, kMaxAug);
+    } else if (!std::strcmp(a, "--observer-poles")) {
+      need(0);
+      o.n_obs_poles = poles_from_list(v, o.obs_poles_s, kMaxAug);
+    } else if (!std::strcmp(a, "--rise-fraction")) {
+      need(1);
+      o.rise_fraction = v[0];
+    } else if (!std::strcmp(a, "--no-search")) {
+      o.search_speed = false;
+    } else if (!std::strcmp(a, "--initializer-only")) {
+      initializer_only = true;
+    } else if (!std::strcmp(a, "--overshoot")) {
+      need(1);
+      o.overshoot_limit_k = v[0];
+    } else if (!std::strcmp(a, "--step")) {
+      need(1);
+      o.step_k = v[0];
+    } else if (!std::strcmp(a, "--bias-tc")) {
+      need(1);
+      o.bias_tc_s = v[0];
+    } else if (!std::strcmp(a, "--decimation")) {
+      need(1);
+      o.decimation = static_cast<int>(v[0]);
+    } else if (!std::strcmp(a, "--fan-loss")) {
+      need(1);
+      fan_loss = v[0];
+    } else if (!std::strcmp(a, "--target")) {
+      need(1);
+      target_c = v[0];
+    } else if (!std::strcmp(a, "--name") && val) {
+      name = val;
+      ++i;
+    } else {
+      std::fprintf(stderr, "hotend-design: unknown argument %s\n%s", a, kUsage);
+      return 2;
+    }
   }
-  if (!have_model) { std::fprintf(stderr, "hotend-design: no model given\n%s", kUsage); return 2; }
+  if (!have_model) {
+    std::fprintf(stderr, "hotend-design: no model given\n%s", kUsage);
+    return 2;
+  }
   if (fan_loss >= 0) model.fan_loss_per_k = fan_loss;
-  if ((o.n_ctrl_poles && o.n_ctrl_poles != model.n) || (o.n_obs_poles && o.n_obs_poles != model.n + 1)) {
-    std::fprintf(stderr, "hotend-design: need %d controller and %d observer poles\n", model.n, model.n + 1);
+  if ((o.n_ctrl_poles && o.n_ctrl_poles != model.n) ||
+      (o.n_obs_poles && o.n_obs_poles != model.n + 1)) {
+    std::fprintf(stderr, "hotend-design: need %d controller and %d observer poles\n", model.n,
+                 model.n + 1);
     return 2;
   }
 
   const Design d = design(model, o);
-  if (d.error) { std::fprintf(stderr, "hotend-design: %s\n", d.error); return 1; }
+  if (d.error) {
+    std::fprintf(stderr, "hotend-design: %s\n", d.error);
+    return 1;
+  }
   control::StateFeedbackConstants k;
   if (const char* err = quantize(d, model.fan_loss_per_k, &k)) {
     std::fprintf(stderr, "hotend-design: %s\n", err);
@@ -192,22 +254,29 @@ int main(int argc, char** argv) {
     return 0;
   }
   const int n = d.real.model.n;
-  std::printf("== continuous model (x in K above %.0f C, u = duty 0..1), dead time %.3f s, DC gain %.2f K\n",
-              model.ambient_c, model.delay_s, d.dc_gain);
+  std::printf(
+      "== continuous model (x in K above %.0f C, u = duty 0..1), dead time %.3f s, DC gain %.2f "
+      "K\n",
+      model.ambient_c, model.delay_s, d.dc_gain);
   print_matrix("A", model.a);
   print_matrix("B", model.b);
   print_matrix("C", model.c);
   std::printf("== realisation: %s\n", model.physical_states ? "physical states kept"
-                                       : d.real.modal ? "real modal form, C = 0/1" : "output as a state");
+                                      : d.real.modal        ? "real modal form, C = 0/1"
+                                                            : "output as a state");
   print_matrix("A (realised)", d.real.model.a);
-  std::printf("== discrete model: law period %d x 128 ms = %.3f s, dead time D = %d periods - %.3f s\n",
-              d.decimation, d.ts_s, d.zoh.delay, d.zoh.frac_s);
+  std::printf(
+      "== discrete model: law period %d x 128 ms = %.3f s, dead time D = %d periods - %.3f s\n",
+      d.decimation, d.ts_s, d.zoh.delay, d.zoh.frac_s);
   print_matrix("Phi", d.zoh.phi);
   print_matrix("Gamma_a (u[k-D])", d.zoh.gamma_a);
   print_matrix("Gamma_b (u[k-D+1])", d.zoh.gamma_b);
-  std::printf("== pole rule: dominant T %.1f s, full-power rise %.1f s (step %.0f K), closed-loop T %.2f s\n",
-              d.t_dom_s, d.t_rise_s, o.step_k, d.t_cl_s);
-  print_poles("controller poles", d.ctrl_poles_z, d.n_aug, d.phi_aug - d.gamma_aug * d.l_aug, d.ts_s);
+  std::printf(
+      "== pole rule: dominant T %.1f s, full-power rise %.1f s (step %.0f K), closed-loop T %.2f "
+      "s\n",
+      d.t_dom_s, d.t_rise_s, o.step_k, d.t_cl_s);
+  print_poles("controller poles", d.ctrl_poles_z, d.n_aug, d.phi_aug - d.gamma_aug * d.l_aug,
+              d.ts_s);
   print_matrix("L (on [x; u[k-D]] when the delay is fractional)", d.l_aug);
   print_matrix("L_D = L Phi^D (law on the observer state)", d.lx);
   std::printf("h_j (on u[k-j], j = 1..%d):", d.zoh.delay);

@@ -1,0 +1,95 @@
+// Text forms of StateFeedbackConstants: a C++ initializer (to compile a default into the
+// firmware) and a proposed G-code upload (`M318 I<index> V<value>` per field, then `M318 C` to
+// check and apply), so a host can send a design the firmware did not ship with.
+// Host-side (stdio), header-only.
+#pragma once
+
+#include <stdio.h>
+
+#include "control/state_feedback_constants.h"
+
+namespace control {
+namespace design {
+
+// Visits every field in struct order with a flat index (arrays at full capacity): the M-code
+// layout. f(index, name, value).
+template <class F>
+void for_each_field(const StateFeedbackConstants& k, F f) {
+  int i = 0;
+  f(i++, "n", k.n);
+  f(i++, "output_mask", k.output_mask);
+  f(i++, "delay", k.delay);
+  f(i++, "decimation", k.decimation);
+  f(i++, "input_shift", k.input_shift);
+  f(i++, "ambient_q8", static_cast<long>(k.ambient_q8));
+  for (int r = 0; r < kSfMaxStates; ++r) f(i++, "phi_diag", k.phi_diag[r]);
+  for (int r = 0; r < kSfMaxStates; ++r) f(i++, "phi_off", k.phi_off[r]);
+  for (int r = 0; r < kSfMaxStates; ++r) f(i++, "phi_col", k.phi_col[r]);
+  for (int r = 0; r < kSfMaxStates; ++r) f(i++, "gamma_a", k.gamma_a[r]);
+  for (int r = 0; r < kSfMaxStates; ++r) f(i++, "gamma_b", k.gamma_b[r]);
+  for (int r = 0; r < kSfMaxStates; ++r) f(i++, "phi_shift", k.phi_shift[r]);
+  for (int r = 0; r <= kSfMaxStates; ++r) f(i++, "obs_gain", k.obs_gain[r]);
+  for (int r = 0; r <= kSfMaxStates; ++r) f(i++, "obs_shift", k.obs_shift[r]);
+  for (int r = 0; r < kSfMaxStates; ++r) f(i++, "fb_gain", k.fb_gain[r]);
+  f(i++, "ff_gain", k.ff_gain);
+  f(i++, "bias_gain", k.bias_gain);
+  f(i++, "ctrl_shift", k.ctrl_shift);
+  for (int r = 0; r < kSfMaxDelay; ++r) f(i++, "fir", k.fir[r]);
+  f(i++, "fir_shift", k.fir_shift);
+  f(i++, "fan_gain", k.fan_gain);
+  f(i++, "fan_shift", k.fan_shift);
+  for (int r = 0; r < kSfMaxStates; ++r) f(i++, "ss_share", k.ss_share[r]);
+  f(i++, "ss_share_shift", k.ss_share_shift);
+  f(i++, "inv_gain", k.inv_gain);
+  f(i++, "inv_gain_shift", k.inv_gain_shift);
+}
+
+inline void print_array(FILE* out, const char* name, const int16_t* v, int count) {
+  fprintf(out, "    /* %s */ {", name);
+  for (int i = 0; i < count; ++i) fprintf(out, "%s%d", i ? ", " : "", v[i]);
+  fprintf(out, "},\n");
+}
+
+inline void print_array(FILE* out, const char* name, const uint8_t* v, int count) {
+  fprintf(out, "    /* %s */ {", name);
+  for (int i = 0; i < count; ++i) fprintf(out, "%s%d", i ? ", " : "", v[i]);
+  fprintf(out, "},\n");
+}
+
+// Brace initializer in field order, e.g. for a constexpr default compiled into the firmware.
+inline void print_initializer(FILE* out, const StateFeedbackConstants& k, const char* name) {
+  fprintf(out, "constexpr control::StateFeedbackConstants %s = {\n", name);
+  fprintf(out,
+          "    /* n, output_mask, delay, decimation, input_shift, ambient_q8 */ %d, %d, %d, %d, "
+          "%d, %ld,\n",
+          k.n, k.output_mask, k.delay, k.decimation, k.input_shift,
+          static_cast<long>(k.ambient_q8));
+  print_array(out, "phi_diag", k.phi_diag, kSfMaxStates);
+  print_array(out, "phi_off", k.phi_off, kSfMaxStates);
+  print_array(out, "phi_col", k.phi_col, kSfMaxStates);
+  print_array(out, "gamma_a", k.gamma_a, kSfMaxStates);
+  print_array(out, "gamma_b", k.gamma_b, kSfMaxStates);
+  print_array(out, "phi_shift", k.phi_shift, kSfMaxStates);
+  print_array(out, "obs_gain", k.obs_gain, kSfMaxStates + 1);
+  print_array(out, "obs_shift", k.obs_shift, kSfMaxStates + 1);
+  print_array(out, "fb_gain", k.fb_gain, kSfMaxStates);
+  fprintf(out, "    /* ff_gain, bias_gain, ctrl_shift */ %d, %d, %d,\n", k.ff_gain, k.bias_gain,
+          k.ctrl_shift);
+  print_array(out, "fir", k.fir, kSfMaxDelay);
+  fprintf(out, "    /* fir_shift, fan_gain, fan_shift */ %d, %d, %d,\n", k.fir_shift, k.fan_gain,
+          k.fan_shift);
+  print_array(out, "ss_share", k.ss_share, kSfMaxStates);
+  fprintf(out, "    /* ss_share_shift, inv_gain, inv_gain_shift */ %d, %d, %d};\n",
+          k.ss_share_shift, k.inv_gain, k.inv_gain_shift);
+}
+
+// Proposed upload: only fields that differ from zero, then the apply command.
+inline void print_mcode(FILE* out, const StateFeedbackConstants& k) {
+  for_each_field(k, [&](int index, const char*, long v) {
+    if (v != 0) fprintf(out, "M318 I%d V%ld\n", index, v);
+  });
+  fprintf(out, "M318 C\n");
+}
+
+}  // namespace design
+}  // namespace control

@@ -39,7 +39,8 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the unti
   run: quality metrics before it, disturbance metrics (max |error|, recovery) after it.
   Defaults: ramps14, hotend40w, the plant's own target/duration, noise σ 0.5 LSB, gains from
   the plant's FOPDT approximation by --gains-rule (simc = SIMC PI with τc = 2τ; also
-  simc-tight, amigo, cohen-coon, zn-step; see `list`), ELF from this build's firmware dir.
+  simc-tight, amigo, cohen-coon, zn-step on that fit, and zn-relay: M303's relay experiment
+  with classic Ziegler–Nichols; see `list`), ELF from this build's firmware directory.
   --fault: thermistor open/short or a D0 hang T s after t0; the run ends 5 s after it.
   --check: exit 1 (listing what failed) unless the run meets the HIL limits.
   --transcript: the serial conversation with simulated times ("> " sent, "< " received).
@@ -79,7 +80,7 @@ void apply_common(const Options& o, RunConfig& c) {
     c.gains = parse_gains(o.get("gains"));
     c.gains_source = "--gains";
   } else {
-    const GainChoice choice = gains_by_rule(c.plant, o.get("gains-rule", kDefaultGainRule));
+    const GainChoice choice = gains_by_rule(c.plant, o.get("gains-rule", kDefaultGainRule), c.target_c);
     c.gains = choice.gains;
     c.gains_source = choice.description;
   }
@@ -192,7 +193,7 @@ int list_command() {
               << ", thermistor ADC" << int(b.hotend_adc_channel) << "\n";
   std::cout << "plants:\n";
   for (const PlantSpec& p : plant_bank()) {
-    const GainChoice g = gains_by_rule(p);
+    const GainChoice g = gains_by_rule(p, kDefaultGainRule, p.default_target_c);
     std::cout << "  " << p.name << "  " << p.description << "\n"
               << "      100 % settles " << format_fixed(p.model.dc_gain_k(), 1)
               << " K above ambient; default " << format_fixed(p.default_target_c, 0) << " °C for "

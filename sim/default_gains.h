@@ -19,12 +19,13 @@ struct GainChoice {
 };
 
 // Rule names: "simc" (the default: SIMC PI, τc = 2τ), "simc-tight" (τc = τ), "amigo",
-// "cohen-coon", "zn-step".
+// "cohen-coon", "zn-step" — all on the FOPDT fit — and "zn-relay": Marlin's M303 autotune, a
+// relay experiment at the target and the classic Ziegler–Nichols ultimate-cycle rule.
 const std::vector<std::string>& gain_rule_names();
 constexpr const char* kDefaultGainRule = "simc";
 
 tuning::Fopdt fopdt_approximation(const PlantSpec& plant);
-// Throws std::invalid_argument for an unknown rule.
-GainChoice gains_by_rule(const PlantSpec& plant, const std::string& rule = kDefaultGainRule);
+// Throws std::invalid_argument for an unknown rule. `target_c` matters only to zn-relay.
+GainChoice gains_by_rule(const PlantSpec& plant, const std::string& rule, double target_c);
 
 }  // namespace sim

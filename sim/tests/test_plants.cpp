@@ -6,6 +6,7 @@
 #include "sim/bound.h"
 #include "sim/default_gains.h"
 #include "sim/plants.h"
+#include "sim/relay_tuning.h"
 
 namespace sim {
 namespace {
@@ -111,6 +112,23 @@ TEST(DefaultGains, TwoPointFitRecoversAnExactFopdt) {
   EXPECT_NEAR(m.k_c_per_duty, 450.0, 1e-6);
   EXPECT_NEAR(m.t_s, 25.5, 0.05);
   EXPECT_NEAR(m.tau_s, 19.5, 0.05);
+}
+
+}  // namespace
+}  // namespace sim
+
+namespace sim {
+namespace {
+
+TEST(RelayExperiment, MatchesTheFopdtClosedForm) {
+  // Ideal relay ±d around the balancing duty on K·e^(−τs)/(Ts+1): the output peaks τ after each
+  // crossing, a = K·d·(1 − e^(−τ/T)), and falls back in T·ln(2 − e^(−τ/T)).
+  const RelayResult r = relay_experiment(plant("seed002"), 210.0, 0.01);
+  ASSERT_TRUE(r.oscillated);
+  const double d = (210.0 - 25.0) / 450.0, decay = std::exp(-20.7 / 24.0);
+  EXPECT_NEAR(r.relay_amplitude_duty, d, 1e-12);
+  EXPECT_NEAR(r.amplitude_k, 450.0 * d * (1.0 - decay), 0.05);
+  EXPECT_NEAR(r.ultimate_period_s, 2.0 * (20.7 + 24.0 * std::log(2.0 - decay)), 0.05);
 }
 
 }  // namespace

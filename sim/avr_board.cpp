@@ -2,7 +2,6 @@
 
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <mutex>
 #include <stdexcept>
 
@@ -10,9 +9,6 @@
 #include "sim/firmware_image.h"
 
 extern "C" {
-#include <avr_adc.h>
-#include <avr_ioport.h>
-#include <avr_uart.h>
 #include <sim_avr.h>
 #include <sim_elf.h>
 }
@@ -34,18 +30,19 @@ AvrBoard::AvrBoard(const BoardSpec& spec, const std::string& elf_path) {
   load(spec, elf_path);
   attach_uart();
   attach_adc();
-  watch_pin(spec.hotend_heater, heater_.get());
-  watch_pin(spec.part_fan, fan_.get());
+  watch_pin(spec.hotend_heater, &heater_);
+  watch_pin(spec.part_fan, &fan_);
   attach_step_marker();
   remap_high_adc_ = spec.hotend_adc_channel >= 8 || spec.bed_adc_channel >= 8;
   apply_adc_remap();
 }
 
-AvrBoard::~AvrBoard() {
-  if (!avr_) return;
-  avr_->custom.data = nullptr;
-  avr_terminate(avr_);
-  std::free(avr_);  // allocated by the core maker with malloc (avr_core_allocate)
+AvrBoard::~AvrBoard() = default;
+
+void AvrBoard::AvrDeleter::operator()(avr_t* avr) const {
+  avr->custom.data = nullptr;
+  avr_terminate(avr);
+  std::free(avr);  // allocated by the core maker with malloc (avr_core_allocate)
 }
 
 AvrBoard* AvrBoard::from(avr_t* avr) { return avr ? static_cast<AvrBoard*>(avr->custom.data) : nullptr; }
@@ -59,11 +56,12 @@ void AvrBoard::load(const BoardSpec& spec, const std::string& elf_path) {
   if (mcu_ != spec.mcu)
     throw std::runtime_error(elf_path + " is built for " + mcu_ + ", board " + spec.id + " has an " +
                              spec.mcu);
-  avr_ = avr_make_mcu_by_name(mcu_.c_str());
-  if (!avr_) throw std::runtime_error("simavr has no core for " + mcu_);
-  avr_init(avr_);
+  avr_t* avr = avr_make_mcu_by_name(mcu_.c_str());
+  if (!avr) throw std::runtime_error("simavr has no core for " + mcu_);
+  avr_init(avr);
+  avr_.reset(avr);
   image.default_clock_and_voltages(spec.cpu_hz, spec.adc_ref_mv);
-  avr_load_firmware(avr_, &image.elf());
+  avr_load_firmware(avr, &image.elf());
   image_size_ = image.size();
 
   // avr_t has no user pointer; custom.data is only handed to custom.init/deinit, which we
@@ -79,7 +77,7 @@ void AvrBoard::load(const BoardSpec& spec, const std::string& elf_path) {
 void AvrBoard::every(uint32_t period_us, std::function<void()> work) {
   const uint64_t period_cycles = uint64_t(avr_->frequency) * period_us / 1000000u;
   periodics_.push_back(std::make_unique<Periodic>(Periodic{this, period_cycles, std::move(work)}));
-  avr_cycle_timer_register(avr_, period_cycles, &Periodic::fire, periodics_.back().get());
+  avr_cycle_timer_register(avr_.get(), period_cycles, &Periodic::fire, periodics_.back().get());
 }
 
 void AvrBoard::reset_trampoline(avr_t* avr) {
@@ -93,18 +91,18 @@ void AvrBoard::after_reset() {
   ++reset_count_;
   avr_->run_cycle_limit = kRunCycleLimit;
   const uint64_t now = cycle();
-  heater_->reset(now);
-  fan_->reset(now);
+  heater_.reset(now);
+  fan_.reset(now);
   step_open_ = false;
   uart_xon_ = false;  // RX is off until the firmware enables it again (which signals XON)
   apply_adc_remap();
-  for (auto& p : periodics_) avr_cycle_timer_register(avr_, p->period_cycles, &Periodic::fire, p.get());
+  for (auto& p : periodics_) avr_cycle_timer_register(avr_.get(), p->period_cycles, &Periodic::fire, p.get());
   for (auto& hook : reset_hooks_) hook();
 }
 
 CpuState AvrBoard::run_until(uint64_t end_cycle) {
   while (avr_->cycle < end_cycle) {
-    const int state = avr_run(avr_);
+    const int state = avr_run(avr_.get());
     if (state == cpu_Done || state == cpu_Stopped) return CpuState::kStopped;
     if (state == cpu_Crashed) return CpuState::kCrashed;
   }

@@ -35,7 +35,7 @@ class AvrBoard {
  public:
   // Loads the ELF (throws std::runtime_error with the reason if it cannot).
   AvrBoard(const BoardSpec& spec, const std::string& elf_path);
-  ~AvrBoard();
+  ~AvrBoard();  // out of line: the parts below are incomplete here
   AvrBoard(const AvrBoard&) = delete;
   AvrBoard& operator=(const AvrBoard&) = delete;
 
@@ -58,8 +58,8 @@ class AvrBoard {
   uint32_t adc_ref_mv() const;
 
   // Duty meters on output pins (the heater and fan are watched from construction).
-  PinMeter& heater() { return *heater_; }
-  PinMeter& fan() { return *fan_; }
+  PinMeter& heater() { return heater_; }
+  PinMeter& fan() { return fan_; }
 
   const StepCycleStats& step_cycles() const { return step_cycles_; }
 
@@ -71,8 +71,10 @@ class AvrBoard {
 
   ImageSize image_size() const { return image_size_; }
   const std::string& mcu() const { return mcu_; }
-  // simavr's own warnings and errors for this board (e.g. crash reasons).
+  // simavr's own warnings and errors for this board (e.g. crash reasons): the first ones, and
+  // how many more were dropped.
   const std::vector<std::string>& simavr_messages() const { return messages_; }
+  uint64_t simavr_messages_dropped() const { return messages_dropped_; }
 
  private:
   struct Periodic;
@@ -91,12 +93,16 @@ class AvrBoard {
   static void reset_trampoline(avr_t* avr);
   static void log_trampoline(avr_t* avr, int level, const char* format, va_list args);
 
-  avr_t* avr_ = nullptr;
+  struct AvrDeleter {
+    void operator()(avr_t* avr) const;  // avr_terminate() and free the core
+  };
+
+  std::unique_ptr<avr_t, AvrDeleter> avr_;
   void (*core_reset_)(avr_t*) = nullptr;
   std::string mcu_;
   ImageSize image_size_;
-  std::unique_ptr<PinMeter> heater_ = std::make_unique<PinMeter>();
-  std::unique_ptr<PinMeter> fan_ = std::make_unique<PinMeter>();
+  PinMeter heater_;
+  PinMeter fan_;
   struct PinWatch;
   std::vector<std::unique_ptr<PinWatch>> pin_watches_;
   std::vector<std::unique_ptr<AdcFeed>> adc_feeds_;

@@ -24,10 +24,10 @@ constexpr uint8_t kAdcMuxHighChannels = 0x20;  // MUX5:0 = 1 0 0xxx selects ADC8
 void AvrBoard::attach_uart() {
   // POLL_SLEEP usleeps on every UCSRA poll and STDIO echoes lines to our stdout: clear both.
   uint32_t flags = 0;
-  avr_ioctl(avr_, AVR_IOCTL_UART_GET_FLAGS('0'), &flags);
+  avr_ioctl(avr_.get(), AVR_IOCTL_UART_GET_FLAGS('0'), &flags);
   flags &= ~uint32_t(AVR_UART_FLAG_POLL_SLEEP | AVR_UART_FLAG_STDIO);
-  avr_ioctl(avr_, AVR_IOCTL_UART_SET_FLAGS('0'), &flags);
-  uart_irqs_ = avr_io_getirq(avr_, AVR_IOCTL_UART_GETIRQ('0'), 0);
+  avr_ioctl(avr_.get(), AVR_IOCTL_UART_SET_FLAGS('0'), &flags);
+  uart_irqs_ = avr_io_getirq(avr_.get(), AVR_IOCTL_UART_GETIRQ('0'), 0);
   avr_irq_register_notify(
       uart_irqs_ + UART_IRQ_OUTPUT,
       [](avr_irq_t*, uint32_t value, void* param) {
@@ -53,7 +53,7 @@ bool AvrBoard::uart_send(uint8_t byte) {
 }
 
 void AvrBoard::attach_adc() {
-  adc_irqs_ = avr_io_getirq(avr_, AVR_IOCTL_ADC_GETIRQ, 0);
+  adc_irqs_ = avr_io_getirq(avr_.get(), AVR_IOCTL_ADC_GETIRQ, 0);
   // simavr computes the result when ADCL is read, from the last value raised; a fresh value at
   // each conversion start is what silicon samples (and lets the sensor model add noise).
   avr_irq_register_notify(
@@ -100,7 +100,7 @@ void AvrBoard::apply_adc_remap() {
 
 void AvrBoard::watch_pin(boards::Pin pin, PinMeter* meter) {
   const uint32_t ioctl = AVR_IOCTL_IOPORT_GETIRQ(pin.port);
-  avr_irq_t* port = avr_io_getirq(avr_, ioctl, 0);
+  avr_irq_t* port = avr_io_getirq(avr_.get(), ioctl, 0);
   if (!port) throw std::runtime_error(std::string("no port ") + pin.port + " on " + mcu_);
   pin_watches_.push_back(std::make_unique<PinWatch>(PinWatch{this, meter, pin.bit}));
   PinWatch* w = pin_watches_.back().get();
@@ -111,7 +111,7 @@ void AvrBoard::watch_pin(boards::Pin pin, PinMeter* meter) {
 void AvrBoard::attach_step_marker() {
   // GPIOR0 has no simavr module: the callback must store the byte itself.
   avr_register_io_write(
-      avr_, kGpior0DataAddress,
+      avr_.get(), kGpior0DataAddress,
       [](avr_t* avr, avr_io_addr_t addr, uint8_t v, void* param) {
         auto* self = static_cast<AvrBoard*>(param);
         avr->data[addr] = v;

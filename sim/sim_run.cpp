@@ -244,6 +244,8 @@ void Runner::finish() {
   result_.image = board_.image_size();
   result_.resets = board_.reset_count();
   result_.simavr_messages = board_.simavr_messages();
+  if (board_.simavr_messages_dropped())
+    result_.simavr_messages.push_back("(" + std::to_string(board_.simavr_messages_dropped()) + " more)\n");
   for (const std::string& p : session_.problems()) result_.problems.push_back(p);
   result_.transcript = session_.transcript();
   result_.bound = physical_bound(config_.plant, config_.target_c);

@@ -26,7 +26,7 @@ const char* const kUsage = R"(usage:
              [--csv FILE] [--noise-lsb SIGMA] [--seed N] [--gains P,I,D | --gains-rule RULE]
              [--gcode "CMD;CMD@T"] [--elf FILE] [--fault open@T|short@T|hang@T] [--check]
              [--max-overshoot C] [--max-steady-error C] [--max-report-error C]
-             [--transcript FILE] [--quiet]
+             [--max-steady-p2p C] [--transcript FILE] [--quiet]
   hotend-sim bench [--markdown] [--boards a,b] [--plants x,y] [--target C] [--seconds S]
              [--jobs N] [--noise-lsb SIGMA] [--seed N] [--gains P,I,D | --gains-rule RULE]
              [--gcode "CMD@T"] [--variant NAME=GCODE]... [--csv-dir DIR] [--elf-dir DIR]
@@ -42,7 +42,10 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the unti
   simc-tight, amigo, cohen-coon, zn-step on that fit, and zn-relay: M303's relay experiment
   with classic Ziegler–Nichols; see `list`), ELF from this build's firmware directory.
   --fault: thermistor open/short or a D0 hang T s after t0; the run ends 5 s after it.
-  --check: exit 1 (listing what failed) unless the run meets the HIL limits.
+  --check: exit 1 (listing what failed) unless the run meets the HIL limits: reaches ±1 °C,
+  overshoot ≤ 5 °C, |steady mean error| ≤ 0.5 °C, T: reports within 1 °C of the true
+  temperature, no Error: line or reset, back in ±1 °C after a timed command (all adjustable);
+  fault runs: heater off within 1 s and the Error: line, or for a hang reset + start + off.
   --transcript: the serial conversation with simulated times ("> " sent, "< " received).
 bench: every board × plant (or the given ones) in parallel, at each plant's default target and
   duration (or --target/--seconds for all); prints one table (with disturbance columns when
@@ -89,9 +92,9 @@ void apply_common(const Options& o, RunConfig& c) {
 
 int run_command(const std::vector<std::string>& args) {
   const Options o = parse_options(args, {"check", "quiet"});
-  reject_unknown(
-      o, {"board", "plant", "target", "seconds", "csv", "noise-lsb", "seed", "gains", "gains-rule", "gcode",
-          "elf", "fault", "transcript", "max-overshoot", "max-steady-error", "max-report-error"});
+  reject_unknown(o, {"board", "plant", "target", "seconds", "csv", "noise-lsb", "seed", "gains", "gains-rule",
+                     "gcode", "elf", "fault", "transcript", "max-overshoot", "max-steady-error",
+                     "max-report-error", "max-steady-p2p"});
   RunConfig c;
   c.board = board_named(o.get("board", "ramps14"));
   c.plant = plant_named(o.get("plant", "hotend40w"));
@@ -108,6 +111,8 @@ int run_command(const std::vector<std::string>& args) {
   limits.max_overshoot_c = parse_number(o.get("max-overshoot", "5"), "--max-overshoot");
   limits.max_steady_error_c = parse_number(o.get("max-steady-error", "0.5"), "--max-steady-error");
   limits.max_report_error_c = parse_number(o.get("max-report-error", "1"), "--max-report-error");
+  if (o.has("max-steady-p2p"))
+    limits.max_steady_peak_to_peak_c = parse_number(o.get("max-steady-p2p"), "--max-steady-p2p");
 
   const RunResult result = run_simulation(c);
   if (!o.has("quiet")) print_report(std::cout, result);

@@ -118,6 +118,13 @@ std::vector<std::string> failed_checks(const RunResult& r, const CheckLimits& li
     require(std::fabs(m.steady_mean_error_c) <= limits.max_steady_error_c,
             "steady-state mean error " + format_fixed(m.steady_mean_error_c, 3) + " °C, limit ±" +
                 format_fixed(limits.max_steady_error_c, 2));
+    if (limits.max_steady_peak_to_peak_c)
+      require(m.steady_peak_to_peak_c <= *limits.max_steady_peak_to_peak_c,
+              "steady-state peak-to-peak " + format_fixed(m.steady_peak_to_peak_c, 3) + " °C > " +
+                  format_fixed(*limits.max_steady_peak_to_peak_c, 3));
+    if (m.disturbance)
+      require(m.disturbance->recovery_s.has_value(), "not back within ±1 °C after the disturbance at " +
+                                                         format_fixed(m.disturbance->at_s, 0) + " s");
     require(r.report_count > 0, "no T: reports");
     require(r.report_error_max_c <= limits.max_report_error_c,
             "reported temperature off by " + format_fixed(r.report_error_max_c, 3) + " °C > " +

@@ -1,6 +1,7 @@
 // The human-readable report of one run, and the pass/fail checks the HIL tests use.
 #pragma once
 
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -15,6 +16,8 @@ struct CheckLimits {
   double max_steady_error_c = 0.5;  // |steady-state mean error|
   double max_report_error_c = 1.0;  // T: reports vs the true sensor temperature
   double max_heater_off_s = 1.0;    // fault runs: heater off this soon after the fault
+  // Sustained oscillation (issue 3): steady-state peak-to-peak; off unless given.
+  std::optional<double> max_steady_peak_to_peak_c;
 };
 
 void print_report(std::ostream& out, const RunResult& result);

@@ -199,12 +199,15 @@ int list_command() {
   std::cout << "plants:\n";
   for (const PlantSpec& p : plant_bank()) {
     const GainChoice g = gains_by_rule(p, kDefaultGainRule, p.default_target_c);
+    const PhysicalBound b = physical_bound(p, p.default_target_c);
     std::cout << "  " << p.name << "  " << p.description << "\n"
-              << "      100 % settles " << format_fixed(p.model.dc_gain_k(), 1)
-              << " K above ambient; default " << format_fixed(p.default_target_c, 0) << " °C for "
-              << format_fixed(p.default_seconds, 0) << " s; default gains P " << format_fixed(g.gains.kp, 3)
-              << " I " << format_fixed(g.gains.ki, 4) << " D " << format_fixed(g.gains.kd, 2) << " ("
-              << g.description << ")\n";
+              << "      100 % settles " << format_fixed(p.model.dc_gain_k(), 1) << " K above ambient ("
+              << format_fixed(p.model.dc_gain_k(1.0), 1) << " with the fan); default "
+              << format_fixed(p.default_target_c, 0) << " °C for " << format_fixed(p.default_seconds, 0)
+              << " s, physical bound " << format_fixed(b.settling_s, 1) << " s\n"
+              << "      default gains P " << format_fixed(g.gains.kp, 3) << " I "
+              << format_fixed(g.gains.ki, 4) << " D " << format_fixed(g.gains.kd, 2) << " (" << g.description
+              << ")\n";
   }
   return 0;
 }

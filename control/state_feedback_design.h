@@ -59,6 +59,7 @@ struct Design {
   double dc_gain = 0;  // K per unit duty
   Mat ss_share;        // n×1: steady state per kelvin of output rise
   double t_dom_s = 0, t_rise_s = 0, t_cl_s = 0;
+  double rhp_zero_s = 0;  // slowest right-half-plane zero (1/s), 0 if none
 };
 
 }  // namespace design

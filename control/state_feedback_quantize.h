@@ -15,7 +15,8 @@ namespace design {
 
 // Largest shift s <= max_shift with every |round(v·2^s)| <= 32767; -1 if even s = 0 overflows.
 // `step` 8 keeps s − 16 a multiple of 8 (rows the runtime shifts every period: byte moves on
-// AVR instead of bit loops) at the price of 8–15 significant bits instead of 15.
+// AVR instead of bit loops) at the price of 8–15 significant bits instead of 15; `step` 4
+// keeps 12–15 bits and leaves at most 3 single-bit shifts.
 inline int choose_shift(const double* v, int count, int max_shift, int step = 1) {
   double big = 0;
   for (int i = 0; i < count; ++i) big = fabs_(v[i]) > big ? fabs_(v[i]) : big;
@@ -80,7 +81,8 @@ inline const char* quantize(const Design& d, double fan_loss_per_k, StateFeedbac
     double row[4] = {d.zoh.phi(i, i) - 1.0, col != i ? d.zoh.phi(i, col) : 0.0,
                      d.zoh.gamma_a(i, 0) / two_p, d.zoh.gamma_b(i, 0) / two_p};
     int16_t m[4];
-    if (!quantize_row(row, 4, 40, m, &k->phi_shift[i])) return "state matrix out of range";
+    // Nibble-aligned exponent: >= 12 significant bits, at most 3 single-bit shift steps on AVR.
+    if (!quantize_row(row, 4, 40, m, &k->phi_shift[i], 4)) return "state matrix out of range";
     k->phi_diag[i] = m[0];
     k->phi_off[i] = m[1];
     k->phi_col[i] = static_cast<uint8_t>(col != i ? col : 0);

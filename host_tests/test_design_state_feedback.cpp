@@ -126,7 +126,8 @@ TEST(DesignStateFeedback, ObserverConvergesFromAWrongState) {
 }
 
 // The rule: closed-loop time constant = full-power rise time / rf with rf from 16 down until
-// the saturated nominal step stays within the overshoot limit, never faster than 2 periods.
+// saturated nominal steps (up to the design step) stay within the overshoot limit, never faster
+// than 2 periods nor than twice the slowest right-half-plane zero's time constant.
 TEST(DesignStateFeedback, PoleRuleLimitsOvershootUnderSaturation) {
   for (const Named& p : kPlants) {
     SCOPED_TRACE(p.name);
@@ -135,13 +136,26 @@ TEST(DesignStateFeedback, PoleRuleLimitsOvershootUnderSaturation) {
     ASSERT_GT(d.t_rise_s, 0.0);
     EXPECT_GE(d.t_cl_s, o.min_periods * d.ts_s - 1e-12);
     EXPECT_LE(d.t_cl_s, d.t_rise_s / 1.0);
-    EXPECT_LE(saturated_step_overshoot(d, o.step_k), o.overshoot_limit_k);
+    EXPECT_LE(worst_step_overshoot(d, o.step_k), o.overshoot_limit_k);
+    if (d.rhp_zero_s > 0) {
+      EXPECT_GE(d.t_cl_s, 2.0 / d.rhp_zero_s - 1e-9);
+    }
   }
   // Without the search, seed 003's two slow lags brake too late and overshoot: the search matters.
   DesignOptions fixed;
   fixed.search_speed = false;
   const Design fast = design(seed003(), fixed);
-  EXPECT_GT(saturated_step_overshoot(fast, fixed.step_k), 1.0);
+  EXPECT_GT(worst_step_overshoot(fast, fixed.step_k), 1.0);
+}
+
+// Seed 000's identified models are non-minimum-phase (their step responses dip first): a real
+// zero near +0.045/s. The cascade and two-node models have no zeros.
+TEST(DesignStateFeedback, FindsTheRightHalfPlaneZeros) {
+  EXPECT_NEAR(rhp_zero_limit(seed000_4()), 0.0494, 0.0005);
+  EXPECT_NEAR(rhp_zero_limit(seed000_5()), 0.0452, 0.0005);
+  EXPECT_EQ(rhp_zero_limit(two_node()), 0.0);
+  EXPECT_EQ(rhp_zero_limit(seed003()), 0.0);
+  EXPECT_EQ(rhp_zero_limit(seed002()), 0.0);
 }
 
 TEST(DesignStateFeedback, DeadTimeFitsTheHistoryByDecimation) {

@@ -15,6 +15,7 @@
 namespace sf_test {
 
 using namespace control::design;
+using control::kSfMaxDelay;
 
 struct Plant {
   const char* name;
@@ -57,6 +58,46 @@ struct Scenario {
   double first_target_c = 0;  // if > 0: the target until first_until_s, then target_c
   double first_until_s = 0;   // (metrics count from then on)
 };
+
+// Issue 3's physical bound: full power, then the steady-state duty, with the switch time chosen
+// to settle into ±1 K soonest. Exact ZOH model on the 128 ms grid (dead time included).
+inline double physical_bound_s(const LtiModel& m, double target_c) {
+  const Zoh z = discretize(m.a, m.b, 0.128, m.delay_s);
+  const double rise = target_c - m.ambient_c, steady = rise / dc_gain(m);
+  const double t_full = full_power_rise_time(m, rise);
+  double tdom = 0;
+  Cplx ev[kMatCap];
+  eigenvalues(m.a, ev);
+  for (int i = 0; i < m.n; ++i) tdom = std::fmax(tdom, ev[i].im == 0 ? -1.0 / ev[i].re : 0.0);
+  const int horizon = static_cast<int>((t_full + m.delay_s + 3 * tdom) / 0.128);
+  auto settle = [&](int k_switch) {
+    Mat x = zeros(m.n, 1);
+    double line[kSfMaxDelay * 8 + 200] = {};  // u history on the 128 ms grid
+    const int len = z.delay + 2;
+    int last_out = 0;
+    for (int k = 0; k < horizon; ++k) {
+      const double u = k < k_switch ? 1.0 : steady;
+      for (int j = len - 1; j > 0; --j) line[j] = line[j - 1];
+      line[0] = u;
+      x = z.phi * x + line[z.delay] * z.gamma_a + (z.delay > 0 ? line[z.delay - 1] : u) * z.gamma_b;
+      if (std::fabs((m.c * x)(0, 0) - rise) > 1.0) last_out = k + 1;
+    }
+    return last_out * 0.128;
+  };
+  double best = 1e9;
+  int best_k = 0;
+  const int k_full = static_cast<int>(t_full / 0.128);
+  for (int k = k_full / 4; k <= k_full * 3 / 2; k += 1 + k_full / 60) {
+    const double t = settle(k);
+    if (t < best) {
+      best = t;
+      best_k = k;
+    }
+  }
+  for (int k = best_k - k_full / 60 - 1; k <= best_k + k_full / 60 + 1; ++k)
+    best = std::fmin(best, settle(k));
+  return best;
+}
 
 class Loop {
  public:

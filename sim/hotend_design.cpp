@@ -272,9 +272,9 @@ int main(int argc, char** argv) {
   print_matrix("Gamma_a (u[k-D])", d.zoh.gamma_a);
   print_matrix("Gamma_b (u[k-D+1])", d.zoh.gamma_b);
   std::printf(
-      "== pole rule: dominant T %.1f s, full-power rise %.1f s (step %.0f K), closed-loop T %.2f "
-      "s\n",
-      d.t_dom_s, d.t_rise_s, o.step_k, d.t_cl_s);
+      "== pole rule: dominant T %.1f s, full-power rise %.1f s (step %.0f K), slowest RHP zero "
+      "%.4f /s, closed-loop T %.2f s\n",
+      d.t_dom_s, d.t_rise_s, o.step_k, d.rhp_zero_s, d.t_cl_s);
   print_poles("controller poles", d.ctrl_poles_z, d.n_aug, d.phi_aug - d.gamma_aug * d.l_aug,
               d.ts_s);
   print_matrix("L (on [x; u[k-D]] when the delay is fractional)", d.l_aug);
@@ -285,7 +285,8 @@ int main(int argc, char** argv) {
   print_poles("observer poles (x and input bias)", d.obs_poles_z, n + 1,
               d.phi_obs - d.k_obs * d.c_obs * d.phi_obs, d.ts_s);
   print_matrix("K (current observer)", d.k_obs);
-  std::printf("saturated nominal step overshoot: %.3f K\n", saturated_step_overshoot(d, o.step_k));
+  std::printf("worst saturated nominal overshoot, steps of 15..100 %% of %.0f K: %.3f K\n",
+              o.step_k, worst_step_overshoot(d, o.step_k));
 
   std::printf("== fixed-point constants (formats: control/state_feedback_constants.h)\n");
   print_initializer(stdout, k, name);

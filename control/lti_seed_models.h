@@ -9,6 +9,15 @@ namespace control {
 namespace design {
 
 constexpr double kSeedRiseK = 450.0;
+// The seeds identified no fan path. The simulator's plant bank (sim/plants.cpp) gives them the
+// two-node hotend's relative loss increase at 100 % fan (0.097/0.068 − 1), acting on the output
+// rise through the input path: in heater-duty terms (0.097/0.068 − 1) / 450 per kelvin.
+constexpr double kSeedFanLossPerK = (0.097 / 0.068 - 1.0) / kSeedRiseK;
+
+inline LtiModel with_seed_fan(LtiModel m) {
+  m.fan_loss_per_k = kSeedFanLossPerK;
+  return m;
+}
 
 // Surmak & Piotrowski (seed 000/001), eq. (1): 4 states, data set 1, time in seconds.
 inline LtiModel seed000_4_raw() {
@@ -33,14 +42,16 @@ inline LtiModel seed000_5_raw() {
   return state_space(5, a, b, c);
 }
 
-inline LtiModel seed000_4() { return with_dc_gain(seed000_4_raw(), kSeedRiseK); }
-inline LtiModel seed000_5() { return with_dc_gain(seed000_5_raw(), kSeedRiseK); }
+inline LtiModel seed000_4() { return with_seed_fan(with_dc_gain(seed000_4_raw(), kSeedRiseK)); }
+inline LtiModel seed000_5() { return with_seed_fan(with_dc_gain(seed000_5_raw(), kSeedRiseK)); }
 
 // Seed 002 (patent): FOPDT T 24 s, τ 20.7 s. Seed 004 (Gan et al.): T 25.5 s, τ 19.5 s.
-inline LtiModel seed002() { return fopdt(kSeedRiseK, 24.0, 20.7); }
-inline LtiModel seed004() { return fopdt(kSeedRiseK, 25.5, 19.5); }
+inline LtiModel seed002() { return with_seed_fan(fopdt(kSeedRiseK, 24.0, 20.7)); }
+inline LtiModel seed004() { return with_seed_fan(fopdt(kSeedRiseK, 25.5, 19.5)); }
 // Seed 003 (Cojuhari et al.): second order T1 = 0.32·T, T2 = 0.64·T with T = 44.2696 s.
-inline LtiModel seed003() { return second_order(kSeedRiseK, 14.17, 28.33); }
+inline LtiModel seed003() {
+  return with_seed_fan(second_order(kSeedRiseK, 0.32 * 44.2696, 0.64 * 44.2696));
+}
 
 }  // namespace design
 }  // namespace control

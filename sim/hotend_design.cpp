@@ -3,7 +3,7 @@
 // observer gains, the fixed-point constants (C++ initializer and proposed M318 upload lines) and
 // a closed-loop check of those constants on the continuous plant.
 //   hotend-design --fopdt 450,24,20.7 | --second-order 450,14.17,28.33 | --two-node |
-//                 --seed000-4 | --seed000-5   [options, --help]
+//                 --seed002 | --seed003 | --seed004 | --seed000-4 | --seed000-5   [options, --help]
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -28,6 +28,8 @@ const char kUsage[] =
     "  --second-order K,T1,T2     two lags in cascade (seed003: 450,14.17,28.33)\n"
     "  --two-node                 physical 40 W hotend (16.7 J/K block, 0.068-0.097 W/K loss)\n"
     "  --seed000-4 | --seed000-5  the identified state-space models, rescaled to 450 K\n"
+    "  --seed002 | --seed003 | --seed004   the simulator's bank versions of the seeds (with its\n"
+    "                             assumed part-fan loss, as --seed000-4/5)\n"
     "options:\n"
     "  --poles P1,P2,...          controller poles in 1/s, one per state; RE:IM = pair RE±IM·j\n"
     "  --observer-poles P,...     observer poles in 1/s, one per state plus the input bias\n"
@@ -181,6 +183,15 @@ int main(int argc, char** argv) {
     } else if (!std::strcmp(a, "--two-node")) {
       model = two_node();
       fan_state = 0;
+      have_model = true;
+    } else if (!std::strcmp(a, "--seed002")) {
+      model = seed002();
+      have_model = true;
+    } else if (!std::strcmp(a, "--seed003")) {
+      model = seed003();
+      have_model = true;
+    } else if (!std::strcmp(a, "--seed004")) {
+      model = seed004();
       have_model = true;
     } else if (!std::strcmp(a, "--seed000-4")) {
       model = seed000_4();

@@ -8,6 +8,10 @@ namespace {
 
 bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
 
+bool waits_for_temperature(const std::string& command) {
+  return starts_with(command, "M109") || starts_with(command, "M190");
+}
+
 // Position of a `key` that starts a token (line start or after a space), or npos.
 std::size_t find_token(const std::string& line, const std::string& key) {
   for (std::size_t pos = line.find(key); pos != std::string::npos; pos = line.find(key, pos + 1))
@@ -60,7 +64,7 @@ void HostSession::poll() {
   const std::string& text = in_flight_->text;
   while (bytes_sent_ < text.size() && board_.uart_accepting())
     if (board_.uart_send(static_cast<uint8_t>(text[bytes_sent_]))) ++bytes_sent_;
-  if (board_.time_s() - in_flight_since_s_ > kOkTimeoutS) {
+  if (!waits_for_temperature(text) && board_.time_s() - in_flight_since_s_ > kOkTimeoutS) {
     const std::string cmd = text.substr(0, text.size() - 1);
     problems_.push_back("no ok for \"" + cmd + "\" within " + std::to_string(int(kOkTimeoutS)) + " s");
     in_flight_.reset();

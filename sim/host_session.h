@@ -29,7 +29,8 @@ std::optional<TempReport> parse_temp_report(const std::string& line);
 
 class HostSession {
  public:
-  // Seconds a command may wait for its `ok` before the host gives up on it (and records it).
+  // Seconds a command may wait for its `ok` before the host gives up on it (and records it);
+  // M109/M190 (set and wait) answer only when the temperature is reached, so they never time out.
   static constexpr double kOkTimeoutS = 5.0;
 
   explicit HostSession(AvrBoard& board);

@@ -50,6 +50,7 @@ struct Metrics {
 struct Scenario {
   double noise_c = 0;
   double gain_error = 1;         // plant input gain / model's
+  double delay_error = 1;        // plant dead time / model's
   double event_s = -1;           // time of the fan / disturbance step (-1: none)
   double event_disturbance = 0;  // duty added to the plant input at event_s
   bool event_fan = false;        // part fan to 100 % at event_s
@@ -113,7 +114,9 @@ class Loop {
   Metrics run(bool compare) {
     fixed_.configure(k_);
     ReferenceController ref(design_, s_.use_fan_feedforward ? p_.model.fan_loss_per_k : 0.0);
-    PlantSim a(p_.model, p_.fan_state), b(p_.model, p_.fan_state);
+    LtiModel truth = p_.model;
+    truth.delay_s *= s_.delay_error;
+    PlantSim a(truth, p_.fan_state), b(truth, p_.fan_state);
     for (PlantSim* q : {&a, &b}) {
       q->set_noise(s_.noise_c);
       q->set_gain_error(s_.gain_error);

@@ -24,7 +24,9 @@ using namespace control::design;
 const char kUsage[] =
     "usage: hotend-design MODEL [options]\n"
     "models (K in kelvin per unit duty 0..1, times in seconds):\n"
-    "  --fopdt K,T,TAU            first order plus dead time (seed002: 450,24,20.7)\n"
+    "  --fopdt K,T,TAU            first order plus dead time (seed002: 450,24,20.7);\n"
+    "                             unsure of TAU? round it up: a real dead time shorter than\n"
+    "                             the model's is harmless, a longer one overshoots\n"
     "  --second-order K,T1,T2     two lags in cascade (seed003: 450,14.17,28.33)\n"
     "  --two-node                 physical 40 W hotend (16.7 J/K block, 0.068-0.097 W/K loss)\n"
     "  --seed000-4 | --seed000-5  the identified state-space models, rescaled to 450 K\n"

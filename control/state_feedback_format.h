@@ -1,7 +1,6 @@
-// Text forms of StateFeedbackConstants: a C++ initializer (to compile a default into the
-// firmware) and a proposed G-code upload (`M318 I<index> V<value>` per field, then `M318 C` to
-// check and apply), so a host can send a design the firmware did not ship with.
-// Host-side (stdio), header-only.
+// Text forms of StateFeedbackConstants for the design tool: a C++ initializer (to compile a
+// default into the firmware) and the flat field walk (index, name, value) that the firmware's
+// M311 upload (control/state_feedback_gcode.h) follows. Host-side (stdio), header-only.
 #pragma once
 
 #include <stdio.h>
@@ -11,7 +10,7 @@
 namespace control {
 namespace design {
 
-// Visits every field in struct order with a flat index (arrays at full capacity): the M-code
+// Visits every field in struct order with a flat index (arrays at full capacity): the M311
 // layout. f(index, name, value).
 template <class F>
 void for_each_field(const StateFeedbackConstants& k, F f) {
@@ -81,14 +80,6 @@ inline void print_initializer(FILE* out, const StateFeedbackConstants& k, const 
   print_array(out, "ss_share", k.ss_share, kSfMaxStates);
   fprintf(out, "    /* ss_share_shift, inv_gain, inv_gain_shift */ %d, %d, %d};\n",
           k.ss_share_shift, k.inv_gain, k.inv_gain_shift);
-}
-
-// Proposed upload: only fields that differ from zero, then the apply command.
-inline void print_mcode(FILE* out, const StateFeedbackConstants& k) {
-  for_each_field(k, [&](int index, const char*, long v) {
-    if (v != 0) fprintf(out, "M318 I%d V%ld\n", index, v);
-  });
-  fprintf(out, "M318 C\n");
 }
 
 }  // namespace design

@@ -1,6 +1,6 @@
 // hotend-design: state-feedback + feedforward design for a hotend model. Prints the discrete
 // model, the poles asked for and achieved, L (with the dead-time predictor folded in), M, the
-// observer gains, the fixed-point constants (C++ initializer and proposed M318 upload lines) and
+// observer gains, the fixed-point constants (C++ initializer and the firmware's M311 upload) and
 // a closed-loop check of those constants on the continuous plant.
 //   hotend-design --fopdt 450,24,20.7 | --second-order 450,14.17,28.33 | --two-node |
 //                 --seed002 | --seed003 | --seed004 | --seed000-4 | --seed000-5   [options, --help]
@@ -15,6 +15,7 @@
 #include "control/lti_simulate.h"
 #include "control/state_feedback.h"
 #include "control/state_feedback_format.h"
+#include "control/state_feedback_gcode.h"
 #include "control/state_feedback_quantize.h"
 
 namespace {
@@ -303,8 +304,8 @@ int main(int argc, char** argv) {
 
   std::printf("== fixed-point constants (formats: control/state_feedback_constants.h)\n");
   print_initializer(stdout, k, name);
-  std::printf("== proposed upload (M318 I<field index> V<value>, zeros omitted; M318 C applies)\n");
-  print_mcode(stdout, k);
+  std::printf("== upload to the firmware (M311, /work/mcode_contract.md; W1 checks and applies)\n");
+  control::write_state_feedback_mcode(k, [](const char* line) { std::printf("%s\n", line); });
   closed_loop_check(model, k, target_c, fan_state);
   return 0;
 }

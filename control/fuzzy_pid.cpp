@@ -27,6 +27,33 @@ uint32_t ec_gain_q12(uint16_t ec_factor_q12, uint16_t period_ms) {
   return period_ms == 0 ? 0 : (uint32_t{ec_factor_q12} * 1000u + period_ms / 2) / period_ms;
 }
 
+// Scale coefficients up to this whole part keep whole · Δ_q8 (Δ_q8 ≤ 768) inside uint32.
+constexpr uint32_t kMaxScaleWhole = 0xFFFFFFFFUL / 768;
+
+// The middle of the output universe (Δ = 1.5, × 256): the nominal gains of fuzzy_config_around.
+constexpr uint16_t kMidDeltaQ8 = 384;
+
+// out = base + scale·Δ_q8/256, the scheduled coefficient, with multiplies only. In Q16 units:
+// scale·Δ/256 = whole·Δ·2^8 + frac·Δ/2^8; the low byte of whole·Δ becomes fraction bits.
+// frac·Δ is rounded (≤ ½ of 2^-16): the scheduled gain is exact to the coefficient's LSB.
+// Then, as Pid::coefficients() does (fixed::without_small_fraction), a coefficient ≥ 1024 is
+// rounded to a whole number, so that the PID's multiply by it is one multiply, not three.
+// Inlined and written into place: as calls returning structs the three cost ~250 cycles more.
+__attribute__((always_inline)) inline void schedule(const fixed::Multiplier& base, const fixed::Multiplier& scale,
+                                                    uint16_t delta_q8, fixed::Multiplier& out) {
+  const uint32_t whole_delta = scale.whole * delta_q8;
+  const uint32_t frac_q16 = uint32_t{base.frac_q16} + ((whole_delta & 0xFF) << 8) +
+                            ((fixed::mul_u16(scale.frac_q16, delta_q8) + 128) >> 8);  // < 3·2^16
+  const uint32_t whole = base.whole + (whole_delta >> 8) + (frac_q16 >> 16);
+  if (whole < 1024) {
+    out.whole = whole;
+    out.frac_q16 = static_cast<uint16_t>(frac_q16);
+  } else {
+    out.whole = whole + ((frac_q16 >> 15) & 1);
+    out.frac_q16 = 0;
+  }
+}
+
 bool scale_ok(int32_t base_q16, int32_t scale_q16) {
   return base_q16 >= 0 && base_q16 <= Pid::kMaxKdQ16 && scale_q16 >= 0 && scale_q16 <= kMaxScaleQ16;
 }
@@ -44,22 +71,34 @@ bool FuzzyPid::valid(const FuzzyPidConfig& c, uint16_t period_ms) {
   const PidGains top{c.base.kp_q16 + 3 * c.scale.kp_q16, c.base.ki_q16 + 3 * c.scale.ki_q16,
                      c.base.kd_q16 + 3 * c.scale.kd_q16};
   const uint32_t ec_gain = ec_gain_q12(c.ec_factor_q12, period_ms);
-  return Pid::valid(top, period_ms) && c.e_factor_q12 >= kMinEFactorQ12 && ec_gain > 0 && ec_gain <= 0xFFFF;
+  if (!Pid::valid(top, period_ms) || c.e_factor_q12 < kMinEFactorQ12 || ec_gain == 0 || ec_gain > 0xFFFF) return false;
+  const PidCoefficients s = Pid::coefficients(c.scale, period_ms);
+  return s.kp.whole <= kMaxScaleWhole && s.ki.whole <= kMaxScaleWhole && s.kd.whole <= kMaxScaleWhole;
 }
 
 void FuzzyPid::configure(const FuzzyPidConfig& config, uint16_t period_ms) {
   config_ = config;
-  period_ms_ = period_ms;
   ec_gain_q12_ = static_cast<uint16_t>(ec_gain_q12(config.ec_factor_q12, period_ms));
   // |e| beyond which e_u saturates (+1): ≤ 768·4096/100 + 1 = 31458 for valid factors.
   e_limit_q8_ = static_cast<int32_t>((uint32_t{fuzzy::kUniverseMaxQ8} << 12) / config.e_factor_q12 + 1);
-  pid_.configure(config.base, period_ms);  // step() sets the scheduled gains before each use
+  // The PID's overflow clamps are computed for the largest gains the schedule reaches;
+  // step() then sets the scheduled coefficients (capped there) before each use.
+  const PidGains top{config.base.kp_q16 + 3 * config.scale.kp_q16, config.base.ki_q16 + 3 * config.scale.ki_q16,
+                     config.base.kd_q16 + 3 * config.scale.kd_q16};
+  pid_.configure(top, period_ms);
+  base_c_ = Pid::coefficients(config.base, period_ms);
+  scale_c_ = Pid::coefficients(config.scale, period_ms);
+  // Until the supervisor has run: the nominal gains (the middle of the schedule).
+  deltas_ = fuzzy::Deltas{kMidDeltaQ8, kMidDeltaQ8, kMidDeltaQ8};
+  pid_.set_coefficients(last_coefficients());
+  phase_ = 0;
 }
 
 void FuzzyPid::reset() {
   pid_.reset();
   have_previous_ = false;
   change_q12_ = 0;
+  phase_ = 0;
 }
 
 void FuzzyPid::init_bumpless(int32_t measured_q8, uint16_t duty_q16) {
@@ -67,17 +106,12 @@ void FuzzyPid::init_bumpless(int32_t measured_q8, uint16_t duty_q16) {
   previous_q8_ = measured_q8;
   have_previous_ = true;
   change_q12_ = 0;
+  phase_ = 0;
 }
 
 uint16_t FuzzyPid::step(const StepInput& in) {
-  // e: °C × 256 → universe × 256. The error is first clamped to just past where the universe
-  // saturates, so that e·factor >> 8 fits 16 bits: the Q12 → Q8 shift is then a free byte move
-  // plus a 4-bit shift on 16 bits (avr-gcc loops over 32-bit shifts by 12).
-  const int32_t error_q8 = fixed::clamp(in.target_q8 - in.measured_q8, -e_limit_q8_, e_limit_q8_);
-  const int16_t e_u_q12 = static_cast<int16_t>(fixed::mul_i16_u16(static_cast<int16_t>(error_q8), config_.e_factor_q12) >> 8);
-  e_u_q8_ = clamp_universe((e_u_q12 + 8) >> 4);
-
-  // ec: measurement change per period, low-passed in Q12 (°C × 4096); ec = −dT/dt.
+  // ec: measurement change per period, low-passed in Q12 (°C × 4096); ec = −dT/dt. Every
+  // period, so the filter's time constant does not depend on the supervisor's phases.
   if (!have_previous_) {
     previous_q8_ = in.measured_q8;
     have_previous_ = true;
@@ -86,13 +120,36 @@ uint16_t FuzzyPid::step(const StepInput& in) {
   previous_q8_ = in.measured_q8;
   change_q12_ = static_cast<int16_t>(
       change_q12_ + fixed::shr_round(change_q8 * (1 << kEcFrac) - change_q12_, kEcFilterShift));
-  ec_u_q8_ = clamp_universe(-fixed::shr_round(fixed::mul_i16_u16(change_q12_, ec_gain_q12_), 16));
 
-  deltas_ = fuzzy::interpolate<fuzzy::kSurfaceStepShift>(load_, e_u_q8_, ec_u_q8_);
-  // TODO(pid owner): Pid::configure() is set-up code (~41,000 AVR cycles of long division);
-  // a per-step coefficient setter (docs/fuzzy_pid.md, "What the PID needs") would bring this
-  // step to ~2,800 cycles. Until then the schedule is exact but slow (~2.7 ms per 128 ms).
-  pid_.configure(last_gains(), period_ms_);
+  // The supervisor's work is spread over four periods, so that no step exceeds the 3,000-cycle
+  // budget (together ~1,700 AVR cycles; interpolation alone ~550): the gains follow e and ec
+  // with a lag of 3 to 6 periods (0.4–0.8 s), small against a hotend's time constants (≥ 20 s)
+  // and dead times (5–20 s). The PID itself steps every period.
+  switch (phase_) {
+    case 0: {
+      // e: °C × 256 → universe × 256. The error is first clamped to just past where the universe
+      // saturates, so that e·factor >> 8 fits 16 bits: the Q12 → Q8 shift is then a free byte
+      // move plus a 4-bit shift on 16 bits (avr-gcc loops over 32-bit shifts by 12).
+      const int32_t error_q8 = fixed::clamp(in.target_q8 - in.measured_q8, -e_limit_q8_, e_limit_q8_);
+      const int16_t e_u_q12 =
+          static_cast<int16_t>(fixed::mul_i16_u16(static_cast<int16_t>(error_q8), config_.e_factor_q12) >> 8);
+      e_u_q8_ = clamp_universe((e_u_q12 + 8) >> 4);
+      ec_u_q8_ = clamp_universe(-fixed::shr_round(fixed::mul_i16_u16(change_q12_, ec_gain_q12_), 16));
+      break;
+    }
+    case 1:
+      deltas_ = fuzzy::interpolate<fuzzy::kSurfaceStepShift>(load_, e_u_q8_, ec_u_q8_);
+      break;
+    case 2:
+      schedule(base_c_.kp, scale_c_.kp, deltas_.dkp_q8, pending_.kp);
+      schedule(base_c_.ki, scale_c_.ki, deltas_.dki_q8, pending_.ki);
+      break;
+    default:
+      schedule(base_c_.kd, scale_c_.kd, deltas_.dkd_q8, pending_.kd);
+      pid_.set_coefficients(pending_);
+      break;
+  }
+  phase_ = static_cast<uint8_t>((phase_ + 1) & 3);
   return pid_.step(in.target_q8, in.measured_q8);
 }
 
@@ -100,6 +157,14 @@ PidGains FuzzyPid::last_gains() const {
   return PidGains{config_.base.kp_q16 + scaled_gain_q16(config_.scale.kp_q16, deltas_.dkp_q8),
                   config_.base.ki_q16 + scaled_gain_q16(config_.scale.ki_q16, deltas_.dki_q8),
                   config_.base.kd_q16 + scaled_gain_q16(config_.scale.kd_q16, deltas_.dkd_q8)};
+}
+
+PidCoefficients FuzzyPid::last_coefficients() const {
+  PidCoefficients c;
+  schedule(base_c_.kp, scale_c_.kp, deltas_.dkp_q8, c.kp);
+  schedule(base_c_.ki, scale_c_.ki, deltas_.dki_q8, c.ki);
+  schedule(base_c_.kd, scale_c_.kd, deltas_.dkd_q8, c.kd);
+  return c;
 }
 
 }  // namespace control

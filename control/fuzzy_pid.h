@@ -62,10 +62,13 @@ class FuzzyPid final : public Controller {
   explicit constexpr FuzzyPid(fuzzy::LoadCell load) : load_(load) {}
 
   // True if every gain the schedule can reach (base + 3·scale) is valid for Pid, e_factor is at
-  // least 0.024 /°C, and ec_factor per control period fits the fixed point (period ≥ ~40 ms at 0.6).
+  // least 0.024 /°C, ec_factor per control period fits the fixed point (period ≥ ~40 ms at 0.6),
+  // and each scale coefficient times Δ (≤ 3) fits the 32-bit per-step arithmetic.
   static bool valid(const FuzzyPidConfig& config, uint16_t period_ms);
 
-  // Precondition: valid(). Keeps the PID's integrator (bumpless while hot).
+  // Precondition: valid(). Keeps the PID's integrator (bumpless while hot). Set-up code: the
+  // long divisions of the PID coefficients of base, scale and base + 3·scale happen here, so
+  // that step() combines them with multiplies only (coefficients are linear in the gains).
   void configure(const FuzzyPidConfig& config, uint16_t period_ms);
 
   uint16_t step(const StepInput& in) override;
@@ -74,10 +77,13 @@ class FuzzyPid final : public Controller {
   void set_feedforward(uint16_t duty_q16) { pid_.set_feedforward(duty_q16); }
 
   const FuzzyPidConfig& config() const { return config_; }
-  // What the last step() used: the supervisor's outputs and the resulting gains.
+  // The supervisor runs over four step() calls (inputs, surfaces, kp/ki, kd and apply); the
+  // PID steps every call. Its latest outputs and the gains they schedule:
   fuzzy::Deltas last_deltas() const { return deltas_; }
   PidGains last_gains() const;
-  // The supervisor's inputs at the last step, universe × 256.
+  // The PID coefficients of those deltas (what configuring last_gains() would give).
+  PidCoefficients last_coefficients() const;
+  // The supervisor's latest inputs, universe × 256.
   int16_t last_e_u_q8() const { return e_u_q8_; }
   int16_t last_ec_u_q8() const { return ec_u_q8_; }
 
@@ -87,13 +93,17 @@ class FuzzyPid final : public Controller {
 
   fuzzy::LoadCell load_;
   Pid pid_;
+  PidCoefficients base_c_{{0, 0}, {0, 0}, {0, 0}};   // Pid::coefficients(config_.base)
+  PidCoefficients scale_c_{{0, 0}, {0, 0}, {0, 0}};  // Pid::coefficients(config_.scale)
   FuzzyPidConfig config_{{0, 0, 0}, {0, 0, 0}, kSeedEFactorQ12, kSeedEcFactorQ12};
-  uint16_t period_ms_ = 0;
   int32_t e_limit_q8_ = 0;           // error clamp just past universe saturation, temp_q8
   uint16_t ec_gain_q12_ = 0;         // universe per (temp_q8 change per period) × 256, Q12
   int16_t change_q12_ = 0;           // filtered measurement change per period, °C × 2^12
   int32_t previous_q8_ = 0;          // last measurement, temp_q8
   bool have_previous_ = false;
+  uint8_t phase_ = 0;                // supervisor work of this step: 0 inputs, 1 surfaces,
+                                     // 2 kp and ki, 3 kd and apply (step() comments why)
+  PidCoefficients pending_{{0, 0}, {0, 0}, {0, 0}};  // the schedule being computed
   fuzzy::Deltas deltas_{0, 0, 0};
   int16_t e_u_q8_ = 0;
   int16_t ec_u_q8_ = 0;

@@ -169,11 +169,12 @@ TEST(FuzzyPid, GainsFollowTheScheduleFarFromAndAtTheTarget) {
                 gain(kDefault.scale.kd_q16) / 128 + 1e-3);
   };
   const double lo = 1.0 / 6, hi = 3 - 1.0 / 6;  // centroids of the end half-triangles NB, PB
-  pid.step({210 * 256, 100 * 256, 0});  // far below, steady (row e PB, ec ZO): kp PB, ki NB, kd NB
-  expect_gains(hi, lo, lo);
+  // One supervisor cycle (four steps: inputs, surfaces, kp/ki, kd) at each operating point.
+  for (int k = 0; k < 4; ++k) pid.step({210 * 256, 100 * 256, 0});  // far below, steady (row e PB, ec ZO)
+  expect_gains(hi, lo, lo);                                          // kp PB, ki NB, kd NB
   pid.reset();
-  pid.step({210 * 256, 210 * 256, 0});  // on target, steady (row e ZO, ec ZO): kp PS, ki PB, kd PB
-  expect_gains(2.0, hi, hi);
+  for (int k = 0; k < 4; ++k) pid.step({210 * 256, 210 * 256, 0});  // on target, steady (row e ZO, ec ZO)
+  expect_gains(2.0, hi, hi);                                         // kp PS, ki PB, kd PB
   // The nominal gains sit mid-schedule: Δ = 1.5 gives them back (fuzzy_config_around).
   EXPECT_NEAR(gain(kDefault.base.kp_q16) + 1.5 * gain(kDefault.scale.kp_q16), 22.2, 1e-3);
   EXPECT_NEAR(gain(kDefault.base.ki_q16) + 1.5 * gain(kDefault.scale.ki_q16), 1.08, 1e-4);
@@ -286,6 +287,41 @@ TEST(FuzzyPidClosedLoop, FixedPointTracksTheDoubleReference) {
   EXPECT_LT(dt, 0.5);
   EXPECT_LT(std::fabs(fixed.max_c - exact.max_c), 0.3);
   EXPECT_NEAR(fixed.temp_c.back(), exact.temp_c.back(), 0.05);
+}
+
+}  // namespace
+
+namespace {
+
+double coefficient(const fixed::Multiplier& m) { return m.whole + m.frac_q16 / 65536.0; }
+
+// The per-step schedule (base and scale coefficients combined with multiplies) against the
+// exact coefficients of the scheduled gains, in Pid's internal units (pid.cpp): Kp·257,
+// Ki·h·257·256, Kd/h·257 — at every supervisor output the closed loop visits.
+TEST(FuzzyPid, ScheduledCoefficientsAreThoseOfTheScheduledGains) {
+  for (const FuzzyPidConfig& config : {kDefault, control::fuzzy_seed002_config(kMarlinE3d),
+                                       control::fuzzy_config_around(q16_gains(3.1, 0.02, 40), 90)}) {
+    FuzzyPid fuzzy(load_cell);
+    ASSERT_TRUE(FuzzyPid::valid(config, kPeriodMs));
+    fuzzy.configure(config, kPeriodMs);
+    TwoNodeHotend plant;
+    for (int k = 0; k < 4000; ++k) {
+      const uint16_t duty = fuzzy.step({210 * 256, int32_t(std::lround(plant.sensor_c * 256)), 0});
+      plant.advance(duty / 65535.0, kPeriodS);
+      const fuzzy::Deltas d = fuzzy.last_deltas();
+      const control::PidCoefficients c = fuzzy.last_coefficients();
+      const double kp = gain(config.base.kp_q16) + gain(config.scale.kp_q16) * d.dkp_q8 / 256.0;
+      const double ki = gain(config.base.ki_q16) + gain(config.scale.ki_q16) * d.dki_q8 / 256.0;
+      const double kd = gain(config.base.kd_q16) + gain(config.scale.kd_q16) * d.dkd_q8 / 256.0;
+      // Exact to 2^-16 while every part is below 1024. Pid::coefficients() rounds coefficients
+      // ≥ 1024 to whole units (≤ 2^-11 relative): base ±½, scale ±½ · Δ (≤ 3), the sum ±½.
+      auto tolerance = [](double x) { return x < 1024 ? 3.0 / 65536 : 2.5; };
+      const double want_p = kp * 257, want_i = ki * kPeriodS * 257 * 256, want_d = kd / kPeriodS * 257;
+      ASSERT_NEAR(coefficient(c.kp), want_p, tolerance(want_p)) << k;
+      ASSERT_NEAR(coefficient(c.ki), want_i, tolerance(want_i)) << k;
+      ASSERT_NEAR(coefficient(c.kd), want_d, tolerance(want_d)) << k;
+    }
+  }
 }
 
 }  // namespace

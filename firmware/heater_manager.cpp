@@ -4,11 +4,6 @@
 
 namespace firmware {
 
-void HeaterManager::select_controller(control::Controller& next, int32_t measured_q8) {
-  next.init_bumpless(measured_q8, duty_q16_);
-  controller_ = &next;
-}
-
 const gcode::FlashText* HeaterManager::set_target_q8(int32_t target_q8) {
   if (fault_ != Fault::kNone) return GCODE_TEXT("Heater fault latched, send M999 to clear");
   if (target_q8 == 0 && target_q8_ != 0) {

@@ -1,6 +1,6 @@
-// The hotend heater's state: target, the active controller, the duty it asked for, and the
-// latched fault. The controller is any control::Controller (PID now; state feedback and
-// fuzzy-PID later, issue 3) and can be swapped at run time without a bump in the duty.
+// The hotend heater's state: target, the controller, the duty it asked for, and the latched
+// fault. The controller is any control::Controller; the firmware passes the ControllerBank,
+// which switches between the issue-3 controllers at run time without a bump in the duty.
 #pragma once
 #include <stdint.h>
 
@@ -12,11 +12,7 @@ namespace firmware {
 
 class HeaterManager {
  public:
-  explicit HeaterManager(control::Controller& controller) : controller_(&controller) {}
-
-  // Makes `next` the active controller, handing over the present duty and temperature
-  // (the run-time controller choice of issue 3 plugs in here).
-  void select_controller(control::Controller& next, int32_t measured_q8);
+  explicit constexpr HeaterManager(control::Controller& controller) : controller_(&controller) {}
 
   // 0 = off (the heater stops at the next PWM period). Refused while a fault is latched.
   const gcode::FlashText* set_target_q8(int32_t target_q8);

@@ -9,31 +9,32 @@
 namespace firmware {
 namespace {
 FIRMWARE_FLASH_JOIN(kMachineType, board::kName, " hotend");
-
-// A block with a good CRC can still hold gains this build's PID cannot represent (written by
-// another version): configure() must never see those, so such a block counts as invalid.
-bool load_usable_settings(Settings& out) {
-  Settings settings;
-  if (!load_settings(settings) || !control::Pid::valid(settings.pid, kControlPeriodMs)) return false;
-  out = settings;
-  return true;
-}
-
 }  // namespace
 
+HandOver HotendMachine::hand_over() const {
+  return HandOver{loop_.temp_q8(), heater_.duty_q16(), heater_.target_q8() != 0 && heater_.fault() == Fault::kNone};
+}
+
+// A block with a good CRC can still hold settings this build cannot use (written by another
+// version): the bank checks everything before it applies anything, so such a block counts as
+// invalid and changes nothing.
+const gcode::FlashText* HotendMachine::load_stored() {
+  SettingsBlock block;  // scratch (~210 bytes of stack, only here)
+  if (!firmware::load_settings(block)) return GCODE_TEXT("EEPROM invalid (blank or corrupt), settings unchanged");
+  const gcode::FlashText* refusal =
+      bank_.replace_all(block.settings, block.sf_loaded == 1 ? &block.sf : nullptr, hand_over());
+  if (refusal != nullptr) return GCODE_TEXT("EEPROM settings unusable by this firmware, settings unchanged");
+  commands_.sync_staging();
+  return nullptr;
+}
+
 void HotendMachine::load_settings_at_boot() {
-  Settings settings = default_settings();
-  if (load_usable_settings(settings)) {
+  bank_.init(default_settings());
+  if (load_stored() == nullptr) {
     out_.write_flash(GCODE_TEXT("echo:Settings loaded from EEPROM\n"));
   } else {
     out_.write_flash(GCODE_TEXT("echo:EEPROM invalid (blank or corrupt), defaults loaded\n"));
   }
-  apply(settings);
-}
-
-void HotendMachine::apply(const Settings& settings) {
-  settings_ = settings;
-  pid_.configure(settings.pid, kControlPeriodMs);
 }
 
 gcode::HeaterStatus HotendMachine::heater_status() {
@@ -42,23 +43,26 @@ gcode::HeaterStatus HotendMachine::heater_status() {
 }
 
 const gcode::FlashText* HotendMachine::set_target_q8(int32_t target_q8) {
-  return heater_.set_target_q8(target_q8);
+  const gcode::FlashText* refusal = heater_.set_target_q8(target_q8);
+  if (refusal == nullptr) bank_.prepare_feedforward(target_q8, hal::fan_pwm::duty());
+  return refusal;
 }
 
 gcode::PidGainsQ16 HotendMachine::pid_gains() {
-  return gcode::PidGainsQ16{settings_.pid.kp_q16, settings_.pid.ki_q16, settings_.pid.kd_q16};
+  const control::PidGains& pid = bank_.settings().pid;
+  return gcode::PidGainsQ16{pid.kp_q16, pid.ki_q16, pid.kd_q16};
 }
 
 const gcode::FlashText* HotendMachine::set_pid_gains(const gcode::PidGainsQ16& gains) {
-  const control::PidGains pid{gains.kp_q16, gains.ki_q16, gains.kd_q16};
-  if (!control::Pid::valid(pid, kControlPeriodMs)) return GCODE_TEXT("M301 gains beyond what the fixed-point PID holds");
-  Settings next = settings_;
-  next.pid = pid;
-  apply(next);
-  return nullptr;
+  Settings next = bank_.settings();
+  next.pid = control::PidGains{gains.kp_q16, gains.ki_q16, gains.kd_q16};
+  return bank_.apply(next, hand_over());
 }
 
-void HotendMachine::set_fan_duty(uint8_t duty) { hal::fan_pwm::set_duty(duty); }
+void HotendMachine::set_fan_duty(uint8_t duty) {
+  hal::fan_pwm::set_duty(duty);
+  bank_.prepare_feedforward(heater_.target_q8(), duty);  // fan feedforward from the next period
+}
 
 // The G-code layer prints the Error line for M112 itself.
 void HotendMachine::emergency_stop() { heater_.trip(Fault::kEmergencyStop); }
@@ -77,18 +81,17 @@ const gcode::FlashText* HotendMachine::clear_fault() {
 }
 
 const gcode::FlashText* HotendMachine::save_settings() {
-  firmware::save_settings(settings_);
+  firmware::save_settings(bank_.settings(), bank_.state_feedback_loaded(), bank_.state_feedback_constants());
   return nullptr;
 }
 
-const gcode::FlashText* HotendMachine::load_settings() {
-  Settings settings;
-  if (!load_usable_settings(settings)) return GCODE_TEXT("EEPROM invalid (blank or corrupt), settings unchanged");
-  apply(settings);
-  return nullptr;
-}
+const gcode::FlashText* HotendMachine::load_settings() { return load_stored(); }
 
-void HotendMachine::reset_settings() { apply(default_settings()); }
+// The defaults hold no state-feedback constants: S1 and its upload are gone afterwards.
+void HotendMachine::reset_settings() {
+  bank_.replace_all(default_settings(), nullptr, hand_over());  // defaults are always accepted
+  commands_.sync_staging();
+}
 
 const gcode::FlashText* HotendMachine::firmware_version() { return GCODE_TEXT(HOTEND_VERSION); }
 

@@ -1,11 +1,13 @@
 // The firmware's gcode::Machine: what G-code commands do to this board -- the heater manager,
-// the PID, the fan, faults and settings. All validation of command syntax and ranges happens
-// in the G-code layer; this class refuses only what depends on machine state.
+// the controllers (through the controller bank and its M-codes), the fan, faults and settings.
+// All validation of command syntax and ranges happens in the G-code layer and in
+// ControllerCommands; this class refuses only what depends on machine state.
 #pragma once
 #include <stdint.h>
 
-#include "control/pid.h"
 #include "firmware/control_loop.h"
+#include "firmware/controller_bank.h"
+#include "firmware/controller_commands.h"
 #include "firmware/gcode_machine.h"
 #include "firmware/heater_manager.h"
 #include "firmware/settings.h"
@@ -14,12 +16,11 @@ namespace firmware {
 
 // Highest target M104/M109 accept: 275 degC (10 degC under MAXTEMP, see range_guard.h).
 constexpr int32_t kMaxTargetQ8 = 275L * 256;
-constexpr uint16_t kControlPeriodMs = 128;  // brief: 128 ticks of 1 ms
 
 class HotendMachine final : public gcode::Machine {
  public:
-  HotendMachine(HeaterManager& heater, ControlLoop& loop, control::Pid& pid, gcode::Output& out)
-      : heater_(heater), loop_(loop), pid_(pid), out_(out) {}
+  constexpr HotendMachine(HeaterManager& heater, ControlLoop& loop, ControllerBank& bank, gcode::Output& out)
+      : heater_(heater), loop_(loop), bank_(bank), commands_(bank), out_(out) {}
 
   // Start-up: settings from EEPROM, or the defaults with a message when it holds none.
   void load_settings_at_boot();
@@ -38,15 +39,21 @@ class HotendMachine final : public gcode::Machine {
   const gcode::FlashText* firmware_version() override;
   const gcode::FlashText* machine_type() override;
   void hang_for_watchdog() override;
+  bool handle_command(const gcode::Command& cmd, gcode::Output& out) override {
+    return commands_.handle(cmd, out, hand_over());
+  }
+  void report_settings(gcode::Output& out) override { commands_.report(out); }
 
  private:
-  void apply(const Settings& settings);
+  HandOver hand_over() const;
+  // M501 / boot: the EEPROM block, all or nothing; the reason for refusing, or nullptr.
+  const gcode::FlashText* load_stored();
 
   HeaterManager& heater_;
   ControlLoop& loop_;
-  control::Pid& pid_;
+  ControllerBank& bank_;  // holds the settings in force (what M500 saves)
+  ControllerCommands commands_;
   gcode::Output& out_;
-  Settings settings_{};  // what M500 saves: the settings in force
 };
 
 }  // namespace firmware

@@ -3,9 +3,10 @@
 // the G-code layer and lets it drive M109 waits and M155 reports.
 #include <stdint.h>
 
-#include "control/pid.h"
 #include "firmware/banner.h"
 #include "firmware/control_loop.h"
+#include "firmware/controller_bank.h"
+#include "firmware/fuzzy_surface_flash.h"
 #include "firmware/gcode_interpreter.h"
 #include "firmware/heater_manager.h"
 #include "firmware/hotend_machine.h"
@@ -23,10 +24,10 @@ namespace {
 
 // Static objects, wired once: no heap. Constructors only store references.
 firmware::SerialOutput g_out;
-control::Pid g_pid;
-firmware::HeaterManager g_heater(g_pid);
+firmware::ControllerBank g_bank(firmware::load_surface_cell);
+firmware::HeaterManager g_heater(g_bank);
 firmware::ControlLoop g_loop(g_heater, g_out);
-firmware::HotendMachine g_machine(g_heater, g_loop, g_pid, g_out);
+firmware::HotendMachine g_machine(g_heater, g_loop, g_bank, g_out);
 gcode::Interpreter g_gcode(g_machine, g_out);
 
 bool has_work() {

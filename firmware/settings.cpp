@@ -1,38 +1,37 @@
 #include "firmware/settings.h"
 
-#include <string.h>
-
 #include "hal/eeprom.h"
 
 namespace firmware {
 namespace {
 
 constexpr uint16_t kMagic = 0x4854;  // "HT" (hotend)
-constexpr uint8_t kLayoutVersion = 1;  // bump when Settings changes: old blocks then read invalid
+// Bump when SettingsBlock changes: old blocks then read invalid. 2: issue 3 (model, controller
+// choice, fuzzy configuration, state-feedback constants).
+constexpr uint8_t kLayoutVersion = 2;
 constexpr uint16_t kEepromAddress = 0;
 
-struct Stored {
+struct Header {
   uint16_t magic;
   uint8_t version;
-  uint8_t size;  // sizeof(Stored): catches a layout change that forgot the version bump
-  Settings settings;
-  uint16_t crc;  // over every byte above
+  uint8_t size;  // sizeof(SettingsBlock): catches a layout change that forgot the version bump
 };
+static_assert(sizeof(SettingsBlock) < 256, "size field is one byte");
 
-constexpr uint16_t kCrcBytes = sizeof(Stored) - sizeof(uint16_t);
-static_assert(sizeof(Stored) < 256, "size field is one byte");
-
-// Q16 from a decimal value given in thousandths (keeps the defaults readable and exact).
-constexpr int32_t q16_from_milli(int32_t milli) {
-  return static_cast<int32_t>((static_cast<int64_t>(milli) * 65536 + 500) / 1000);
-}
+constexpr uint16_t kBlockAddress = kEepromAddress + sizeof(Header);
+constexpr uint16_t kCrcAddress = kBlockAddress + sizeof(SettingsBlock);
+// The block's parts in EEPROM order (AVR structs have no padding, so offsets are the sums).
+constexpr uint16_t kSettingsAddress = kBlockAddress;
+constexpr uint16_t kFlagAddress = kSettingsAddress + sizeof(Settings);
+constexpr uint16_t kSfAddress = kFlagAddress + 1;
+static_assert(kSfAddress + sizeof(control::StateFeedbackConstants) == kCrcAddress, "SettingsBlock has padding");
 
 }  // namespace
 
-uint16_t crc16_ccitt(const uint8_t* data, uint16_t size) {
-  uint16_t crc = 0xFFFF;
+uint16_t crc16_ccitt(uint16_t crc, const void* data, uint16_t size) {
+  const uint8_t* bytes = static_cast<const uint8_t*>(data);
   for (uint16_t i = 0; i < size; ++i) {
-    crc ^= static_cast<uint16_t>(data[i]) << 8;
+    crc ^= static_cast<uint16_t>(bytes[i]) << 8;
     for (uint8_t bit = 0; bit < 8; ++bit) {
       crc = (crc & 0x8000) ? static_cast<uint16_t>((crc << 1) ^ 0x1021) : static_cast<uint16_t>(crc << 1);
     }
@@ -40,40 +39,28 @@ uint16_t crc16_ccitt(const uint8_t* data, uint16_t size) {
   return crc;
 }
 
-// Defaults for the hotend40w plant (E3D-V6 class: block 16.7 J/K, 40 W, loss 0.068 W/K,
-// sensor lag 0.22 /s), Marlin units: Kp per degC on the 0..255 scale, Ki per degC.s, Kd s.
-// Chosen by a grid search (Kp 14..40, Ki 0.5..2, Kd 40..140) on a double-precision model of
-// that plant under control/pid.h's structure (128 ms period, conditional integration,
-// derivative on measurement, 1 s filter): the smallest worst-case overshoot over heater power
-// 32..48 W, heat capacity 13..21 J/K, sensor lag 0.15..0.3 /s and targets 180..250 degC,
-// among gains whose nominal 25 -> 210 degC settling into +-1 degC is <= 104 s (full power
-// alone needs ~99 s). Result: nominal overshoot 0, worst 0.5 degC; part-fan step dip 1.4 degC.
-Settings default_settings() {
-  Settings s;
-  s.pid.kp_q16 = q16_from_milli(34000);
-  s.pid.ki_q16 = q16_from_milli(1000);
-  s.pid.kd_q16 = q16_from_milli(100000);
-  return s;
+bool load_settings(SettingsBlock& out) {
+  Header header;
+  uint16_t crc;
+  hal::eeprom::read(kEepromAddress, &header, sizeof header);
+  if (header.magic != kMagic || header.version != kLayoutVersion || header.size != sizeof(SettingsBlock)) return false;
+  hal::eeprom::read(kBlockAddress, &out, sizeof out);
+  hal::eeprom::read(kCrcAddress, &crc, sizeof crc);
+  return crc == crc16_ccitt(crc16_ccitt(0xFFFF, &header, sizeof header), &out, sizeof out);
 }
 
-bool load_settings(Settings& out) {
-  Stored stored;
-  hal::eeprom::read(kEepromAddress, &stored, sizeof stored);
-  if (stored.magic != kMagic || stored.version != kLayoutVersion || stored.size != sizeof(Stored)) return false;
-  if (stored.crc != crc16_ccitt(reinterpret_cast<const uint8_t*>(&stored), kCrcBytes)) return false;
-  out = stored.settings;
-  return true;
-}
-
-void save_settings(const Settings& settings) {
-  Stored stored;
-  memset(&stored, 0, sizeof stored);  // padding bytes (none on AVR) must not vary
-  stored.magic = kMagic;
-  stored.version = kLayoutVersion;
-  stored.size = sizeof(Stored);
-  stored.settings = settings;
-  stored.crc = crc16_ccitt(reinterpret_cast<const uint8_t*>(&stored), kCrcBytes);
-  hal::eeprom::update(kEepromAddress, &stored, sizeof stored);
+void save_settings(const Settings& settings, bool sf_loaded, const control::StateFeedbackConstants& sf) {
+  const Header header{kMagic, kLayoutVersion, sizeof(SettingsBlock)};
+  const uint8_t flag = sf_loaded ? 1 : 0;
+  uint16_t crc = crc16_ccitt(0xFFFF, &header, sizeof header);
+  crc = crc16_ccitt(crc, &settings, sizeof settings);
+  crc = crc16_ccitt(crc, &flag, 1);
+  crc = crc16_ccitt(crc, &sf, sizeof sf);
+  hal::eeprom::update(kEepromAddress, &header, sizeof header);
+  hal::eeprom::update(kSettingsAddress, &settings, sizeof settings);
+  hal::eeprom::update(kFlagAddress, &flag, 1);
+  hal::eeprom::update(kSfAddress, &sf, sizeof sf);
+  hal::eeprom::update(kCrcAddress, &crc, sizeof crc);
 }
 
 }  // namespace firmware

@@ -1,0 +1,139 @@
+#include "firmware/controller_bank.h"
+
+namespace firmware {
+namespace {
+
+bool same_gains(const control::PidGains& a, const control::PidGains& b) {
+  return a.kp_q16 == b.kp_q16 && a.ki_q16 == b.ki_q16 && a.kd_q16 == b.kd_q16;
+}
+
+bool same_model(const control::HotendModel& a, const control::HotendModel& b) {
+  return a.rise_q8 == b.rise_q8 && a.time_constant_q8 == b.time_constant_q8 && a.dead_time_q8 == b.dead_time_q8 &&
+         a.fan_loss_pct_q8 == b.fan_loss_pct_q8;
+}
+
+// The PID family's configuration changed (M301 or M312): each configure costs ~40,000 AVR
+// cycles per coefficient set, so it runs only then.
+bool pid_family_changed(const Settings& a, const Settings& b) {
+  return !same_gains(a.pid, b.pid) || a.fuzzy_spread_pct != b.fuzzy_spread_pct ||
+         a.fuzzy_e_factor_q12 != b.fuzzy_e_factor_q12 || a.fuzzy_ec_factor_q12 != b.fuzzy_ec_factor_q12;
+}
+
+}  // namespace
+
+void ControllerBank::init(const Settings& settings) {
+  settings_ = settings;
+  configure_pid_family(settings);
+  feedforward_.configure(settings.model);
+  active()->reset();
+}
+
+const gcode::FlashText* ControllerBank::refusal(const Settings& next, bool sf_available) const {
+  if (pid_family_changed(settings_, next)) {  // the checks cost as much as configuring: only then
+    if (!control::Pid::valid(next.pid, kControlPeriodMs)) return GCODE_TEXT("M301 gains beyond what the fixed-point PID holds");
+    if (!control::FuzzyPid::valid(fuzzy_config(next), kControlPeriodMs))
+      return GCODE_TEXT("fuzzy-PID schedule (M301 x (1 + M312 S/100)) beyond what the fixed-point PID holds");
+  }
+  if (!control::hotend_model_valid(next.model)) return GCODE_TEXT("M307 model out of range");
+  if (next.controller >= kControllerCount || next.feedforward > 1) return GCODE_TEXT("M310 S or F out of range");
+  if (next.controller == static_cast<uint8_t>(ControllerId::kStateFeedback) && !sf_available)
+    return GCODE_TEXT("M310 S1 needs state-feedback constants (M311 ... W1)");
+  return nullptr;
+}
+
+void ControllerBank::commit(const Settings& next, const HandOver& now) {
+  if (pid_family_changed(settings_, next)) configure_pid_family(next);
+  if (!same_model(settings_.model, next.model)) feedforward_.configure(next.model);
+  settings_ = next;
+  prepare_feedforward(ff_target_q8_, ff_fan_);  // model or F may have changed
+  take_over(now);
+}
+
+const gcode::FlashText* ControllerBank::apply(const Settings& next, const HandOver& now) {
+  const gcode::FlashText* reason = refusal(next, sf_loaded_);
+  if (reason == nullptr) commit(next, now);
+  return reason;
+}
+
+const gcode::FlashText* ControllerBank::replace_all(const Settings& next, const control::StateFeedbackConstants* sf,
+                                                    const HandOver& now) {
+  const gcode::FlashText* reason = refusal(next, sf != nullptr);
+  if (reason != nullptr) return reason;
+  if (sf != nullptr && !control::state_feedback_constants_valid(*sf)) return GCODE_TEXT("state-feedback constants invalid");
+  if (sf != nullptr) sf_.configure(*sf);  // checked above: cannot fail
+  sf_loaded_ = sf != nullptr;
+  commit(next, now);
+  return nullptr;
+}
+
+bool ControllerBank::load_state_feedback(const control::StateFeedbackConstants& k, const HandOver& now) {
+  if (!sf_.configure(k)) return false;  // checks first, copies only valid constants
+  sf_loaded_ = true;
+  if (active_id() == ControllerId::kStateFeedback) take_over(now);
+  return true;
+}
+
+void ControllerBank::configure_pid_family(const Settings& s) {
+  pid_.configure(s.pid, kControlPeriodMs);
+  fuzzy_.configure(fuzzy_config(s), kControlPeriodMs);
+  marlin_.configure(s.pid, kControlPeriodMs);
+}
+
+// Whatever changed, the active controller continues from the present duty: a settings change
+// never kicks the heater. With the heater off it starts from scratch instead.
+void ControllerBank::take_over(const HandOver& now) {
+  if (now.heating) {
+    init_bumpless(now.measured_q8, now.duty_q16);
+  } else {
+    reset();
+  }
+}
+
+void ControllerBank::reset() {
+  ff_applied_ = false;  // the PID family's reset keeps its feedforward; refresh it at the next step
+  active()->reset();
+}
+
+void ControllerBank::init_bumpless(int32_t measured_q8, uint16_t duty_q16) {
+  ff_applied_ = false;  // (another controller may be active now)
+  active()->init_bumpless(measured_q8, duty_q16);
+}
+
+void ControllerBank::prepare_feedforward(int32_t target_q8, uint8_t fan_duty) {
+  ff_target_q8_ = target_q8;
+  ff_fan_ = fan_duty;
+  const uint16_t ff_q16 = settings_.feedforward != 0 ? feedforward_.duty_q16(target_q8, fan_duty) : 0;
+  if (ff_q16 != ff_q16_) ff_applied_ = false;
+  ff_q16_ = ff_q16;
+}
+
+control::Controller* ControllerBank::active() {
+  switch (active_id()) {
+    case ControllerId::kStateFeedback: return &sf_;
+    case ControllerId::kFuzzyPid: return &fuzzy_;
+    case ControllerId::kMarlinPid: return &marlin_;
+    default: return &pid_;
+  }
+}
+
+uint16_t ControllerBank::step(const control::StepInput& in) {
+  const ControllerId id = active_id();
+  if (id == ControllerId::kStateFeedback) return sf_.step(in);  // carries its own feedforward
+  // The PID family's model feedforward (0 with M310 F0), handed over only when it changed.
+  if (in.target_q8 != ff_target_q8_ || in.fan_duty != ff_fan_) prepare_feedforward(in.target_q8, in.fan_duty);
+  const bool update = !ff_applied_;
+  ff_applied_ = true;
+  switch (id) {
+    case ControllerId::kFuzzyPid:
+      if (update) fuzzy_.set_feedforward(ff_q16_);
+      return fuzzy_.step(in);
+    case ControllerId::kMarlinPid:
+      if (update) marlin_.set_feedforward(ff_q16_);
+      return marlin_.step(in);
+    default:
+      if (update) pid_.set_feedforward(ff_q16_);
+      return pid_.step(in);
+  }
+}
+
+}  // namespace firmware

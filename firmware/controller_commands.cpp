@@ -1,0 +1,212 @@
+#include "firmware/controller_commands.h"
+
+#include "control/state_feedback_gcode.h"
+
+namespace firmware {
+namespace {
+
+// M312 E/C limits, Q12, chosen so the Error line prints them exactly: the e factor at least
+// 0.03 /°C (FuzzyPid needs ≥ 0.024); the ec factor's per-period gain (× 1000/128) must fit
+// 16 bits: ≤ 2.04 s/°C.
+constexpr int32_t kMinEFactorQ12 = 123;     // 0.03 (prints as the bound it is)
+constexpr int32_t kMaxEFactorQ12 = 65495;   // 15.99
+constexpr int32_t kMinEcFactorQ12 = 41;     // 0.01
+constexpr int32_t kMaxEcFactorQ12 = 8356;   // 2.04
+
+void write_refusal(gcode::Output& out, const gcode::FlashText* reason) {
+  if (reason != nullptr) out.error_line(reason);
+}
+
+// value / 2^frac_bits with the fewest decimals (2..4) that parse back to the same value, so
+// that the default factors read "0.40" and "0.60" while any other value still round-trips.
+// Report-time only: the divisions are not in the control step.
+void write_round_trip(gcode::Output& out, uint16_t value, uint8_t frac_bits) {
+  uint32_t scale = 100;
+  uint8_t decimals = 2;
+  for (; decimals < 4; ++decimals, scale *= 10) {
+    const uint32_t printed = (uint32_t{value} * scale + (1UL << (frac_bits - 1))) >> frac_bits;
+    const uint32_t parsed = ((printed << frac_bits) + scale / 2) / scale;
+    if (parsed == value) break;
+  }
+  out.write_fixed(value, frac_bits, decimals);
+}
+
+const gcode::FlashText* controller_name(ControllerId id) {
+  switch (id) {
+    case ControllerId::kStateFeedback: return GCODE_TEXT("state feedback");
+    case ControllerId::kFuzzyPid: return GCODE_TEXT("fuzzy-PID");
+    case ControllerId::kMarlinPid: return GCODE_TEXT("Marlin PID");
+    default: return GCODE_TEXT("PID");
+  }
+}
+
+// Any parameter letter from `first` to `last` present (letters as a range, not a string
+// literal: avr-gcc would copy the literal into RAM).
+bool has_any(const gcode::Command& cmd, char first, char last) {
+  for (char c = first; c <= last; ++c)
+    if (cmd.has(c)) return true;
+  return false;
+}
+
+}  // namespace
+
+bool ControllerCommands::handle(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
+  if (cmd.letter != 'M' || cmd.code < 307 || cmd.code > 312 || cmd.code == 308 || cmd.code == 309) return false;
+  if (!cmd.valid(out)) return true;
+  switch (cmd.code) {
+    case 307: model(cmd, out, now); break;
+    case 310: select(cmd, out, now); break;
+    case 311: upload(cmd, out, now); break;
+    default: fuzzy(cmd, out, now); break;
+  }
+  return true;
+}
+
+void ControllerCommands::model(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
+  Settings next = bank_.settings();
+  control::HotendModel& m = next.model;
+  if (!cmd.fixed('A', 8, control::kModelMinRiseQ8, control::kModelMaxRiseQ8, &m.rise_q8, out) ||
+      !cmd.fixed('C', 8, control::kModelMinTimeConstantQ8, control::kModelMaxTimeConstantQ8, &m.time_constant_q8, out) ||
+      !cmd.fixed('D', 8, 0, control::kModelMaxDeadTimeQ8, &m.dead_time_q8, out) ||
+      !cmd.fixed('F', 8, 0, control::kModelMaxFanLossPctQ8, &m.fan_loss_pct_q8, out)) {
+    return;
+  }
+  if (cmd.has('A') || has_any(cmd, 'C', 'D') || cmd.has('F')) return write_refusal(out, bank_.apply(next, now));
+  out.print(GCODE_TEXT("echo:"));
+  write_model(out);
+}
+
+void ControllerCommands::select(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
+  Settings next = bank_.settings();
+  int32_t controller = next.controller;
+  int32_t feedforward = next.feedforward;
+  if (!cmd.integer('S', 0, kControllerCount - 1, &controller, out) || !cmd.integer('F', 0, 1, &feedforward, out)) return;
+  if (cmd.has('S') || cmd.has('F')) {
+    next.controller = static_cast<uint8_t>(controller);
+    next.feedforward = static_cast<uint8_t>(feedforward);
+    return write_refusal(out, bank_.apply(next, now));
+  }
+  out.print(GCODE_TEXT("echo:"));
+  write_selection(out);
+}
+
+void ControllerCommands::upload(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
+  if (*cmd.params == '\0') return write_upload(out, GCODE_TEXT("echo:"));
+  int32_t commit = 0;
+  if (!cmd.integer('W', 1, 1, &commit, out)) return;
+  if (has_any(cmd, 'A', 'H')) {
+    int32_t first = 0;
+    if (!cmd.require('I', out) || !cmd.integer('I', 0, control::kSfFieldCount - 1, &first, out)) return;
+    int32_t values[control::kSfFieldsPerLine];
+    for (uint8_t j = 0; j < control::kSfFieldsPerLine; ++j) {  // check the whole line first...
+      const char letter = static_cast<char>('A' + j);
+      if (!cmd.has(letter)) continue;
+      const control::SfField field = control::sf_field(staging_, static_cast<uint8_t>(first + j));
+      if (field.address == nullptr) {
+        out.print(GCODE_TEXT("Error:M311 "));
+        out.write_char(letter);
+        out.print(GCODE_TEXT(": field index beyond "));
+        out.write_uint(control::kSfFieldCount - 1);
+        return out.end_line();
+      }
+      int32_t lo, hi;
+      control::sf_field_range(field.type, &lo, &hi);
+      if (!cmd.integer(letter, lo, hi, &values[j], out)) return;
+    }
+    for (uint8_t j = 0; j < control::kSfFieldsPerLine; ++j) {  // ...then write it
+      if (cmd.has(static_cast<char>('A' + j))) control::sf_set(control::sf_field(staging_, static_cast<uint8_t>(first + j)), values[j]);
+    }
+  }
+  if (commit == 1 && !bank_.load_state_feedback(staging_, now)) {
+    out.error_line(GCODE_TEXT("M311 W1: constants invalid, nothing applied"));
+  }
+}
+
+void ControllerCommands::fuzzy(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
+  Settings next = bank_.settings();
+  int32_t spread = next.fuzzy_spread_pct;
+  int32_t e_q12 = next.fuzzy_e_factor_q12;
+  int32_t ec_q12 = next.fuzzy_ec_factor_q12;
+  if (!cmd.integer('S', 0, 100, &spread, out) || !cmd.fixed('E', 12, kMinEFactorQ12, kMaxEFactorQ12, &e_q12, out) ||
+      !cmd.fixed('C', 12, kMinEcFactorQ12, kMaxEcFactorQ12, &ec_q12, out)) {
+    return;
+  }
+  if (cmd.has('S') || cmd.has('E') || cmd.has('C')) {
+    next.fuzzy_spread_pct = static_cast<uint8_t>(spread);
+    next.fuzzy_e_factor_q12 = static_cast<uint16_t>(e_q12);
+    next.fuzzy_ec_factor_q12 = static_cast<uint16_t>(ec_q12);
+    return write_refusal(out, bank_.apply(next, now));
+  }
+  out.print(GCODE_TEXT("echo:"));
+  write_fuzzy(out);
+}
+
+void ControllerCommands::sync_staging() {
+  if (bank_.state_feedback_loaded()) {
+    staging_ = bank_.state_feedback_constants();
+  } else {
+    staging_ = control::StateFeedbackConstants{};
+  }
+}
+
+void ControllerCommands::report(gcode::Output& out) {
+  out.print(GCODE_TEXT("echo:; Hotend model (M307 A rise at 100 % degC, C time constant s, D dead time s, F fan loss %):\n"
+                       "echo:  "));
+  write_model(out);
+  out.print(GCODE_TEXT("echo:; Fuzzy-PID around M301 (M312 S spread %, E/C quantization factors):\necho:  "));
+  write_fuzzy(out);
+  out.print(GCODE_TEXT("echo:; State-feedback constants (M311):\n"));
+  write_upload(out, GCODE_TEXT("echo:  "));
+  out.print(GCODE_TEXT("echo:; Controller (M310 S0 PID, S1 state feedback, S2 fuzzy-PID, S3 Marlin PID; F1 model feedforward):\n"
+                       "echo:  "));
+  write_selection(out);
+}
+
+void ControllerCommands::write_model(gcode::Output& out) const {
+  const control::HotendModel& m = bank_.settings().model;
+  out.print(GCODE_TEXT("M307 A"));
+  out.write_q8(m.rise_q8);
+  out.print(GCODE_TEXT(" C"));
+  out.write_q8(m.time_constant_q8);
+  out.print(GCODE_TEXT(" D"));
+  out.write_q8(m.dead_time_q8);
+  out.print(GCODE_TEXT(" F"));
+  out.write_q8(m.fan_loss_pct_q8);
+  out.end_line();
+}
+
+void ControllerCommands::write_selection(gcode::Output& out) const {
+  const Settings& s = bank_.settings();
+  out.print(GCODE_TEXT("M310 S"));
+  out.write_uint(s.controller);
+  out.print(GCODE_TEXT(" F"));
+  out.write_uint(s.feedforward);
+  out.print(GCODE_TEXT(" ; "));
+  out.print(controller_name(bank_.active_id()));
+  out.end_line();
+}
+
+void ControllerCommands::write_fuzzy(gcode::Output& out) const {
+  const Settings& s = bank_.settings();
+  out.print(GCODE_TEXT("M312 S"));
+  out.write_uint(s.fuzzy_spread_pct);
+  out.print(GCODE_TEXT(" E"));
+  write_round_trip(out, s.fuzzy_e_factor_q12, 12);
+  out.print(GCODE_TEXT(" C"));
+  write_round_trip(out, s.fuzzy_ec_factor_q12, 12);
+  out.end_line();
+}
+
+void ControllerCommands::write_upload(gcode::Output& out, const gcode::FlashText* prefix) const {
+  if (!bank_.state_feedback_loaded()) {
+    out.print(prefix);
+    return out.print(GCODE_TEXT("M311 ; no state-feedback constants loaded\n"));
+  }
+  control::write_state_feedback_mcode(bank_.state_feedback_constants(), [&](const char* line) {
+    out.print(prefix);
+    out.write(line);
+    out.end_line();
+  });
+}
+
+}  // namespace firmware

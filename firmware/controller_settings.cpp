@@ -1,0 +1,35 @@
+#include "firmware/controller_settings.h"
+
+namespace firmware {
+
+// Defaults for the hotend40w plant (E3D-V6 class: block 16.7 J/K, 40 W, loss 0.068 W/K,
+// sensor lag 0.22 /s), Marlin units: Kp per degC on the 0..255 scale, Ki per degC.s, Kd s.
+// Chosen by a grid search (Kp 14..40, Ki 0.5..2, Kd 40..140) on a double-precision model of
+// that plant under control/pid.h's structure (128 ms period, conditional integration,
+// derivative on measurement, 1 s filter): the smallest worst-case overshoot over heater power
+// 32..48 W, heat capacity 13..21 J/K, sensor lag 0.15..0.3 /s and targets 180..250 degC,
+// among gains whose nominal 25 -> 210 degC settling into +-1 degC is <= 104 s (full power
+// alone needs ~99 s). Result: nominal overshoot 0, worst 0.5 degC; part-fan step dip 1.4 degC.
+// The model (M307) is the same plant's (control::kHotend40wModel); the fuzzy-PID schedule
+// spreads ±50 % around the PID gains with seed 002's quantization (docs/fuzzy_pid.md).
+// Feedforward starts off, so a build without M310 behaves as issue 2's firmware did.
+Settings default_settings() {
+  Settings s{};
+  s.pid = control::PidGains{34L << 16, 1L << 16, 100L << 16};
+  s.model = control::kHotend40wModel;
+  s.controller = kDefaultController;
+  s.feedforward = 0;
+  s.fuzzy_spread_pct = control::kDefaultFuzzySpreadPct;
+  s.fuzzy_e_factor_q12 = control::kSeedEFactorQ12;
+  s.fuzzy_ec_factor_q12 = control::kSeedEcFactorQ12;
+  return s;
+}
+
+control::FuzzyPidConfig fuzzy_config(const Settings& s) {
+  control::FuzzyPidConfig c = control::fuzzy_config_around(s.pid, s.fuzzy_spread_pct);
+  c.e_factor_q12 = s.fuzzy_e_factor_q12;
+  c.ec_factor_q12 = s.fuzzy_ec_factor_q12;
+  return c;
+}
+
+}  // namespace firmware

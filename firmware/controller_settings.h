@@ -1,0 +1,40 @@
+// The settings M500 stores and M503 reports (besides the state-feedback constants, which the
+// controller bank keeps): PID gains (M301), hotend model (M307), controller choice and
+// feedforward switch (M310), fuzzy-PID configuration (M312). Hardware-free (host-tested).
+#pragma once
+#include <stdint.h>
+
+#include "control/feedforward.h"
+#include "control/fuzzy_pid.h"
+#include "control/pid.h"
+
+namespace firmware {
+
+enum class ControllerId : uint8_t { kPid = 0, kStateFeedback = 1, kFuzzyPid = 2, kMarlinPid = 3 };
+constexpr uint8_t kControllerCount = 4;
+
+// Build-time default controller: `cmake -DHOTEND_DEFAULT_CONTROLLER=<n>` (both builds pass it).
+constexpr uint8_t kDefaultController = HOTEND_DEFAULT_CONTROLLER;
+static_assert(kDefaultController < kControllerCount, "HOTEND_DEFAULT_CONTROLLER: 0 PID, 2 fuzzy-PID, 3 Marlin PID");
+static_assert(kDefaultController != static_cast<uint8_t>(ControllerId::kStateFeedback),
+              "HOTEND_DEFAULT_CONTROLLER=1: state feedback needs uploaded constants (M311); select it with "
+              "M310 S1 and store it with M500 instead");
+
+constexpr uint16_t kControlPeriodMs = 128;  // brief: 128 ticks of 1 ms
+
+struct Settings {
+  control::PidGains pid;          // M301, Marlin units Q16 (S0, S2 around them, S3)
+  control::HotendModel model;     // M307 (feedforward of S0, S2, S3)
+  uint8_t controller;             // M310 S: a ControllerId
+  uint8_t feedforward;            // M310 F: 1 = model feedforward on
+  uint8_t fuzzy_spread_pct;       // M312 S: fuzzy schedule spans M301 × (1 ∓ spread)
+  uint16_t fuzzy_e_factor_q12;    // M312 E: universe units per °C, Q12
+  uint16_t fuzzy_ec_factor_q12;   // M312 C: universe units per °C/s, Q12
+};
+
+Settings default_settings();
+
+// The fuzzy-PID configuration these settings describe (fuzzy_config_around M301).
+control::FuzzyPidConfig fuzzy_config(const Settings& s);
+
+}  // namespace firmware

@@ -1,0 +1,150 @@
+// The issue-3 M-codes (M307, M310, M311, M312) through the real G-code layer: reports, strict
+// validation (Error line, nothing changes), the state-feedback upload, and M503's lines
+// re-sent to a fresh firmware reproducing the same settings.
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "control/state_feedback_gcode.h"
+#include "control/state_feedback_presets.h"
+#include "host_tests/controller_rig.h"
+
+namespace {
+
+using controller_test::Rig;
+using firmware::ControllerId;
+
+std::string upload_of(const control::StateFeedbackConstants& k) {
+  std::string text;
+  control::write_state_feedback_mcode(k, [&](const char* line) { text += std::string(line) + "\n"; });
+  return text;
+}
+
+TEST(ControllerCommands, BareFormsReportTheDefaults) {
+  Rig rig;
+  EXPECT_EQ(rig.send("M307\n"), "echo:M307 A588.23 C245.59 D4.55 F42.65\nok\n");
+  EXPECT_EQ(rig.send("M310\n"), "echo:M310 S0 F0 ; PID\nok\n");
+  EXPECT_EQ(rig.send("M312\n"), "echo:M312 S50 E0.40 C0.60\nok\n");
+  EXPECT_EQ(rig.send("M311\n"), "echo:M311 ; no state-feedback constants loaded\nok\n");
+}
+
+TEST(ControllerCommands, M307SetsAnySubsetAndRefusesOutOfRange) {
+  Rig rig;
+  EXPECT_EQ(rig.send("M307 A450 D20.7\n"), "ok\n");
+  EXPECT_EQ(rig.send("M307\n"), "echo:M307 A450.00 C245.59 D20.70 F42.65\nok\n");
+  EXPECT_EQ(rig.send("M307 A9.99\n"), "Error:M307 A out of range 10..2000\nok\n");
+  EXPECT_EQ(rig.send("M307 C400 F501\n"), "Error:M307 F out of range 0..500\nok\n");  // C not applied either
+  EXPECT_EQ(rig.send("M307 D1x\n"), "Error:M307: malformed parameter \"D1x\"\nok\n");
+  EXPECT_EQ(rig.send("M307\n"), "echo:M307 A450.00 C245.59 D20.70 F42.65\nok\n");
+}
+
+TEST(ControllerCommands, M310SelectsAndRefusesStateFeedbackWithoutConstants) {
+  Rig rig;
+  EXPECT_EQ(rig.send("M310 S2 F1\n"), "ok\n");
+  EXPECT_EQ(rig.send("M310\n"), "echo:M310 S2 F1 ; fuzzy-PID\nok\n");
+  EXPECT_EQ(rig.send("M310 S3\n"), "ok\n");
+  EXPECT_EQ(rig.send("M310\n"), "echo:M310 S3 F1 ; Marlin PID\nok\n");
+  EXPECT_EQ(rig.send("M310 S1\n"), "Error:M310 S1 needs state-feedback constants (M311 ... W1)\nok\n");
+  EXPECT_EQ(rig.send("M310 S4\n"), "Error:M310 S must be an integer in 0..3\nok\n");
+  EXPECT_EQ(rig.send("M310 F2\n"), "Error:M310 F must be an integer in 0..1\nok\n");
+  EXPECT_EQ(rig.send("M310 S0.5\n"), "Error:M310 S must be an integer in 0..3\nok\n");
+  EXPECT_EQ(rig.send("M310\n"), "echo:M310 S3 F1 ; Marlin PID\nok\n");
+  EXPECT_EQ(rig.machine.bank.active_id(), ControllerId::kMarlinPid);
+}
+
+TEST(ControllerCommands, M311UploadsCommitsAndReportsTheConstants) {
+  Rig rig;
+  const std::string upload = upload_of(control::kSfSeed004);
+  std::istringstream lines(upload);
+  std::string line;
+  int count = 0;
+  while (std::getline(lines, line)) {
+    EXPECT_EQ(rig.send(line + "\n"), "ok\n") << line;
+    ++count;
+  }
+  EXPECT_EQ(count, 14);
+  EXPECT_TRUE(rig.machine.bank.state_feedback_loaded());
+  EXPECT_EQ(rig.send("M310 S1\n"), "ok\n");
+  EXPECT_EQ(rig.send("M310\n"), "echo:M310 S1 F0 ; state feedback\nok\n");
+  // Bare M311 prints the canonical upload of what is loaded.
+  std::string echoed;
+  std::istringstream again(upload);
+  while (std::getline(again, line)) echoed += "echo:" + line + "\n";
+  EXPECT_EQ(rig.send("M311\n"), echoed + "ok\n");
+  // One field edited and committed: the staging copy started as the loaded constants.
+  EXPECT_EQ(rig.send("M311 I53 A" + std::to_string(control::kSfSeed004.ff_gain + 1) + " W1\n"), "ok\n");
+  EXPECT_EQ(rig.machine.bank.state_feedback_constants().ff_gain, control::kSfSeed004.ff_gain + 1);
+  EXPECT_EQ(rig.machine.bank.state_feedback_constants().fir[3], control::kSfSeed004.fir[3]);
+}
+
+TEST(ControllerCommands, M311RejectsBadLinesWhole) {
+  Rig rig;
+  EXPECT_EQ(rig.send("M311 A1\n"), "Error:M311: missing I\nok\n");
+  EXPECT_EQ(rig.send("M311 I0 A1 B256\n"), "Error:M311 B must be an integer in 0..255\nok\n");  // A not written
+  EXPECT_EQ(rig.send("M311 I6 A-32769\n"), "Error:M311 A must be an integer in -32768..32767\nok\n");
+  EXPECT_EQ(rig.send("M311 I96 D1\n"), "Error:M311 D: field index beyond 98\nok\n");
+  EXPECT_EQ(rig.send("M311 I99 A1\n"), "Error:M311 I must be an integer in 0..98\nok\n");
+  EXPECT_EQ(rig.send("M311 W2\n"), "Error:M311 W must be an integer in 1..1\nok\n");
+  // Nothing was staged: committing the all-zero staging copy fails its checks (n = 0).
+  EXPECT_EQ(rig.send("M311 W1\n"), "Error:M311 W1: constants invalid, nothing applied\nok\n");
+  EXPECT_FALSE(rig.machine.bank.state_feedback_loaded());
+}
+
+TEST(ControllerCommands, M312SetsTheFuzzyScheduleAndReportsRoundTrippingFactors) {
+  Rig rig;
+  EXPECT_EQ(rig.send("M312 S30 E0.5 C0.25\n"), "ok\n");
+  EXPECT_EQ(rig.send("M312\n"), "echo:M312 S30 E0.50 C0.25\nok\n");
+  EXPECT_EQ(rig.send("M312 E0.1234\n"), "ok\n");  // Q12: 505/4096 prints with 4 decimals
+  EXPECT_EQ(rig.send("M312\n"), "echo:M312 S30 E0.1233 C0.25\nok\n");
+  EXPECT_EQ(rig.send("M312 E0.1233\n"), "ok\n");
+  EXPECT_EQ(rig.send("M312\n"), "echo:M312 S30 E0.1233 C0.25\nok\n");
+  EXPECT_EQ(rig.send("M312 S101\n"), "Error:M312 S must be an integer in 0..100\nok\n");
+  EXPECT_EQ(rig.send("M312 E0.02\n"), "Error:M312 E out of range 0.03..15.99\nok\n");
+  EXPECT_EQ(rig.send("M312 C2.1\n"), "Error:M312 C out of range 0.01..2.04\nok\n");
+  EXPECT_EQ(rig.send("M312\n"), "echo:M312 S30 E0.1233 C0.25\nok\n");
+}
+
+TEST(ControllerCommands, M301RefusesGainsTheFuzzyScheduleCannotHold) {
+  Rig rig;
+  EXPECT_EQ(rig.send("M301 P900\n"),
+            "Error:fuzzy-PID schedule (M301 x (1 + M312 S/100)) beyond what the fixed-point PID holds\nok\n");
+  EXPECT_EQ(rig.send("M312 S10\n"), "ok\n");
+  EXPECT_EQ(rig.send("M301 P900\n"), "echo: p:900.00 i:1.00 d:100.00\nok\n");
+}
+
+// M503's re-sendable lines ("echo:  M..."), without the prefix.
+std::vector<std::string> settings_lines(Rig& rig) {
+  std::istringstream report(rig.send("M503\n"));
+  std::vector<std::string> lines;
+  std::string line;
+  while (std::getline(report, line))
+    if (line.rfind("echo:  ", 0) == 0) lines.push_back(line.substr(7));
+  return lines;
+}
+
+TEST(ControllerCommands, M503LinesRestoreEverySettingOnAFreshFirmware) {
+  Rig rig;
+  rig.send(upload_of(control::kSfHotend40w));
+  rig.send("M301 P20 I0.5 D80\nM307 A500 C200 D6 F30\nM312 S40 E0.3 C0.7\nM310 S1 F1\n");
+  const std::vector<std::string> lines = settings_lines(rig);
+  ASSERT_EQ(lines.size(), 1u + 1 + 1 + 14 + 1);  // M301, M307, M312, M311 × 13 + W1, M310
+  EXPECT_EQ(lines.back(), "M310 S1 F1 ; state feedback");
+  Rig fresh;
+  for (const std::string& line : lines) EXPECT_EQ(fresh.send(line + "\n").substr(0, 5) == "Error", false) << line;
+  EXPECT_EQ(settings_lines(fresh), lines);
+  EXPECT_EQ(fresh.machine.bank.active_id(), ControllerId::kStateFeedback);
+}
+
+TEST(ControllerCommands, M502ForgetsTheUploadAndFallsBackToTheDefaultController) {
+  Rig rig;
+  rig.send(upload_of(control::kSfHotend40w));
+  EXPECT_EQ(rig.send("M310 S1\n"), "ok\n");
+  rig.send("M502\n");
+  EXPECT_FALSE(rig.machine.bank.state_feedback_loaded());
+  EXPECT_EQ(rig.send("M310\n"), "echo:M310 S0 F0 ; PID\nok\n");
+  EXPECT_EQ(rig.send("M311\n"), "echo:M311 ; no state-feedback constants loaded\nok\n");
+}
+
+}  // namespace

@@ -19,10 +19,13 @@ struct BenchCase {
 // A case that cannot start yields a result whose `problems` says why.
 std::vector<RunResult> run_bench(const std::vector<BenchCase>& cases, unsigned jobs);
 
-// One row per case; Markdown (for README) or aligned plain text.
+// One row per case; Markdown (for README) or aligned plain text. The columns after the first
+// timed command are headed with `disturbance_name` (e.g. "fan step").
 void print_bench_table(std::ostream& out, const std::vector<BenchCase>& cases,
-                       const std::vector<RunResult>& results, bool markdown);
-// What went wrong in which case (host problems, the firmware's Error: lines), one per line.
+                       const std::vector<RunResult>& results, bool markdown,
+                       const std::string& disturbance_name = "dist.");
+// What went wrong in which case (host problems, the firmware's Error: lines), one per line, then
+// the worst T: report error and the slowest simulation speed.
 void print_bench_notes(std::ostream& out, const std::vector<BenchCase>& cases,
                        const std::vector<RunResult>& results);
 

@@ -33,6 +33,7 @@ LtiModel fopdt(double gain_k, double lag_s, double delay_s) {
   m.b = Matrix{{gain_k / lag_s}};
   m.c = Matrix{{1.0}};
   m.delay_s = delay_s;
+  m.physical_states = true;
   return m;
 }
 
@@ -43,6 +44,7 @@ LtiModel second_order(double gain_k, double t1_s, double t2_s) {
   m.a_fan = zeros_like(m.a);
   m.b = Matrix::column({gain_k / t1_s, 0.0});
   m.c = Matrix{{0.0, 1.0}};
+  m.physical_states = true;
   return m;
 }
 
@@ -66,6 +68,7 @@ LtiModel two_node(double capacity_j_per_k, double heater_w, double loss_w_per_k,
   m.a_fan = Matrix{{-(loss_fan_full_w_per_k - loss_w_per_k) / capacity_j_per_k, 0.0}, {0.0, 0.0}};
   m.b = Matrix::column({heater_w / capacity_j_per_k, 0.0});
   m.c = Matrix{{0.0, 1.0}};
+  m.physical_states = true;
   return m;
 }
 

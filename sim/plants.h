@@ -23,6 +23,9 @@ struct LtiModel {
   Matrix b;      // n×1, K/s per unit duty
   Matrix c;      // 1×n
   double delay_s = 0.0;
+  // True when the states are temperatures in cascade (FOPDT, two lags, two-node): the
+  // state-feedback design keeps them; identified matrices go to modal form (control/lti_model.h).
+  bool physical_states = false;
 
   std::size_t order() const { return a.rows(); }
   // Steady-state rise (K) per unit heater duty at a constant fan duty: −C·(A + fan·A_fan)⁻¹·B.

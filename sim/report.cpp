@@ -1,5 +1,6 @@
 #include "sim/report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -58,6 +59,7 @@ void print_report(std::ostream& out, const RunResult& r) {
       << "plant              " << c.plant.name << ": " << c.plant.description << "\n"
       << "target             " << format_fixed(c.target_c, 1) << " °C for " << format_fixed(c.seconds, 0)
       << " s, ADC noise σ " << format_fixed(c.noise_lsb, 2) << " LSB\n"
+      << (c.controller.empty() ? "" : "controller         " + c.controller + "\n")
       << "gains              "
       << (c.gains ? "P " + format_fixed(c.gains->kp, 3) + " I " + format_fixed(c.gains->ki, 4) + " D " +
                         format_fixed(c.gains->kd, 2)
@@ -122,9 +124,27 @@ std::vector<std::string> failed_checks(const RunResult& r, const CheckLimits& li
       require(m.steady_peak_to_peak_c <= *limits.max_steady_peak_to_peak_c,
               "steady-state peak-to-peak " + format_fixed(m.steady_peak_to_peak_c, 3) + " °C > " +
                   format_fixed(*limits.max_steady_peak_to_peak_c, 3));
-    if (m.disturbance)
+    if (m.disturbance) {
       require(m.disturbance->recovery_s.has_value(), "not back within ±1 °C after the disturbance at " +
                                                          format_fixed(m.disturbance->at_s, 0) + " s");
+      std::optional<double> limit_s = limits.max_recovery_s;
+      if (limits.max_recovery_bound_ratio && r.bound.reachable) {
+        const double by_bound = *limits.max_recovery_bound_ratio * r.bound.settling_s;
+        limit_s = limit_s ? std::min(*limit_s, by_bound) : by_bound;
+      }
+      if (limit_s && m.disturbance->recovery_s)
+        require(*m.disturbance->recovery_s <= *limit_s, "recovery " + format_fixed(*m.disturbance->recovery_s, 1) +
+                                                            " s after the disturbance > " +
+                                                            format_fixed(*limit_s, 1) + " s");
+    }
+    // Duty within 0–100 %: what the firmware reports (@: 0..255) and what the pin did.
+    require(r.report_power_bad == 0,
+            std::to_string(r.report_power_bad) + " T: reports with @: missing or outside 0..255");
+    for (const TraceSample& s : r.trace)
+      if (!(s.heater_duty >= 0.0 && s.heater_duty <= 1.0)) {
+        failed.push_back("heater duty " + format_fixed(100.0 * s.heater_duty, 1) + " % outside 0–100 %");
+        break;
+      }
     require(r.report_count > 0, "no T: reports");
     require(r.report_error_max_c <= limits.max_report_error_c,
             "reported temperature off by " + format_fixed(r.report_error_max_c, 3) + " °C > " +

@@ -18,6 +18,11 @@ struct CheckLimits {
   double max_heater_off_s = 1.0;    // fault runs: heater off this soon after the fault
   // Sustained oscillation (issue 3): steady-state peak-to-peak; off unless given.
   std::optional<double> max_steady_peak_to_peak_c;
+  // Recovery after the first timed command (e.g. a part-fan step): back in ±1 °C and staying
+  // there within this many seconds (without it: merely back by the end of the run).
+  std::optional<double> max_recovery_s;
+  // The same as a multiple of the plant's physical bound (issue 3's HIL tests: 2 × bound).
+  std::optional<double> max_recovery_bound_ratio;
 };
 
 void print_report(std::ostream& out, const RunResult& result);

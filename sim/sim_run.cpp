@@ -6,6 +6,7 @@
 #include <deque>
 #include <limits>
 
+#include "sim/gcode_format.h"
 #include "sim/host_session.h"
 #include "sim/run_files.h"
 #include "sim/sensor.h"
@@ -26,17 +27,6 @@ constexpr double kBootTimeoutS = 5.0;
 constexpr double kSetupTimeoutS = 30.0;
 constexpr double kM105PeriodS = 5.0;  // M155 reports every second; M105 is polled as well
 constexpr double kRunChunkS = 0.25;
-
-// Plain decimals as hosts type them (G-code parsers need not accept exponents): 6 places is
-// finer than the firmware's Q16 gains, trailing zeros dropped.
-std::string format_decimal(double value) {
-  char text[48];
-  std::snprintf(text, sizeof text, "%.6f", value);
-  std::string s = text;
-  while (s.back() == '0') s.pop_back();
-  if (s.back() == '.') s.pop_back();
-  return s;
-}
 
 std::string format_gains(const MarlinGains& g) {
   return "M301 P" + format_decimal(g.kp) + " I" + format_decimal(g.ki) + " D" + format_decimal(g.kd);
@@ -162,6 +152,8 @@ void Runner::send_due_commands(double now_s) {
 void Runner::on_line(const ReplyLine& line) {
   if (line.text == "start" && session_.boot_count() == 1) start_setup();
   if (line.text.rfind("Error:", 0) == 0) result_.error_lines.push_back(line.text);
+  // A set-up command this image does not know (e.g. a controller it was built without).
+  if (line.text.rfind("echo:Unknown command", 0) == 0) result_.problems.push_back("firmware: " + line.text);
   if (auto report = parse_temp_report(line.text)) {
     reported_c_ = report->temp_c;
     if (before_fault(line.t_s)) check_report(*report);
@@ -189,6 +181,7 @@ void Runner::check_report(const TempReport& report) {
   }
   const double error = std::max({0.0, lo - report.temp_c, report.temp_c - hi});
   ++result_.report_count;
+  if (report.power < 0 || report.power > 255) ++result_.report_power_bad;
   result_.report_error_max_c = std::max(result_.report_error_max_c, error);
 }
 

@@ -37,6 +37,7 @@ struct RunConfig {
   double seconds = 600.0;  // simulated time after the heating start
   double noise_lsb = 0.5;  // Gaussian ADC noise σ, LSB (0: silicon's exact rounding)
   uint64_t seed = 1;
+  std::string controller;            // controller_setup.h name, "" when set up by hand
   std::optional<MarlinGains> gains;  // nullopt: sent by nobody (firmware default)
   std::string gains_source;          // how `gains` were chosen, for the report
   std::vector<TimedCommand> gcode;
@@ -54,6 +55,7 @@ struct RunResult {
   Metrics metrics;
   PhysicalBound bound;
   int report_count = 0;             // T: reports before any fault
+  int report_power_bad = 0;         // of those, with @: missing or outside 0..255
   double report_error_max_c = 0.0;  // see sim_run.cpp: kReportLatencyS
   StepCycleStats step_cycles;
   ImageSize image;

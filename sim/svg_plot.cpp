@@ -11,7 +11,9 @@ namespace {
 
 constexpr double kWidth = 900, kPanelHeight = 260, kLeft = 60, kRight = 20, kTop = 40, kGap = 50;
 constexpr std::size_t kMaxPoints = 1500;  // per polyline: buckets are averaged down to this
-const char* const kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2"};
+const char* const kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
+                                "#8c564b", "#e377c2", "#17becf", "#7f7f7f", "#bcbd22"};
+constexpr double kZoomC = 5.0;  // the middle panel: target ± this
 
 struct Axis {
   double lo, hi;
@@ -43,7 +45,9 @@ std::string polyline(const std::vector<double>& t, const std::vector<double>& y,
     double st = 0, sy = 0;
     for (std::size_t k = i; k < i + per; ++k) st += t[k], sy += y[k];
     const double x = kLeft + (st / per - tx.lo) / (tx.hi - tx.lo) * (kWidth - kLeft - kRight);
-    const double yy = top + kPanelHeight - (sy / per - ay.lo) / (ay.hi - ay.lo) * kPanelHeight;
+    // Clamped to the panel: the zoomed panel shows far-off values on its edge.
+    const double v = std::clamp(sy / per, ay.lo, ay.hi);
+    const double yy = top + kPanelHeight - (v - ay.lo) / (ay.hi - ay.lo) * kPanelHeight;
     out << fmt(x) << "," << fmt(yy) << " ";
   }
   out << "\"/>\n";
@@ -110,23 +114,27 @@ void write_svg_plot(const std::string& path, const std::string& title,
     for (double y : s.target_c) y_hi = std::max(y_hi, y);
   }
   const Axis tx = nice_axis(0, t_hi), ay = nice_axis(y_lo, y_hi), au{0, 100, 20};
-  const double top2 = kTop + kPanelHeight + kGap;
+  const double target = series.empty() || series[0].target_c.empty() ? 0.0 : series[0].target_c.back();
+  const Axis az{target - kZoomC, target + kZoomC, 1.0};
+  const double top2 = kTop + kPanelHeight + kGap, top3 = top2 + kPanelHeight + kGap;
   std::ofstream out(path);
   if (!out) throw std::runtime_error("cannot write " + path);
   out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << kWidth << "\" height=\""
-      << top2 + kPanelHeight + 40 << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+      << top3 + kPanelHeight + 40 << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
       << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
       << "<text x=\"" << kWidth / 2 << "\" y=\"18\" text-anchor=\"middle\" font-size=\"15\">" << title
       << "</text>\n"
       << panel_frame(tx, ay, kTop, "true temperature °C (target dashed)")
-      << panel_frame(tx, au, top2, "heater duty % (mean per PWM period)") << "<text x=\"" << kWidth / 2
-      << "\" y=\"" << top2 + kPanelHeight + 34 << "\" text-anchor=\"middle\">time since power-on, s</text>\n";
+      << panel_frame(tx, az, top2, "the same, target ± 5 °C (values beyond drawn on the edge)")
+      << panel_frame(tx, au, top3, "heater duty % (mean per PWM period)") << "<text x=\"" << kWidth / 2
+      << "\" y=\"" << top3 + kPanelHeight + 34 << "\" text-anchor=\"middle\">time since power-on, s</text>\n";
   for (std::size_t i = 0; i < series.size(); ++i) {
     const PlotSeries& s = series[i];
     const char* colour = kColours[i % (sizeof kColours / sizeof *kColours)];
     out << polyline(s.time_s, s.true_c, tx, ay, kTop, colour)
         << polyline(s.time_s, s.target_c, tx, ay, kTop, colour, "stroke-dasharray=\"4 3\"")
-        << polyline(s.time_s, s.heater_duty, tx, au, top2, colour) << "<text x=\"" << kWidth - kRight - 8
+        << polyline(s.time_s, s.true_c, tx, az, top2, colour)
+        << polyline(s.time_s, s.heater_duty, tx, au, top3, colour) << "<text x=\"" << kWidth - kRight - 8
         << "\" y=\"" << kTop + kPanelHeight - 10 - 15.0 * (series.size() - 1 - i)
         << "\" text-anchor=\"end\" fill=\"" << colour << "\">" << s.label << "</text>\n";
   }

@@ -14,7 +14,8 @@ struct PlotSeries {
 
 // Reads the columns it needs from a trace CSV written by --csv (throws std::runtime_error).
 PlotSeries read_trace_csv(const std::string& path, const std::string& label);
-// Two panels sharing the time axis: true temperature (target dashed), heater duty in %.
+// Three panels sharing the time axis: true temperature (target dashed), the same zoomed to the
+// target ± 5 °C, heater duty in %.
 void write_svg_plot(const std::string& path, const std::string& title, const std::vector<PlotSeries>& series);
 
 }  // namespace sim

@@ -1,0 +1,90 @@
+#include "sim/plant_model.h"
+
+#include <cstdio>
+#include <stdexcept>
+
+#include "control/state_feedback_design.h"
+#include "control/state_feedback_gcode.h"
+#include "control/state_feedback_quantize.h"
+#include "sim/default_gains.h"
+#include "sim/gcode_format.h"
+
+namespace sim {
+namespace {
+
+// A one-state model whose output is its state: K·e^(−τs)/(T·s + 1) exactly.
+bool is_fopdt(const LtiModel& m) { return m.order() == 1 && m.c(0, 0) == 1.0 && m.a(0, 0) < 0.0; }
+
+double fan_loss_fraction(const LtiModel& m) { return m.dc_gain_k(0.0) / m.dc_gain_k(1.0) - 1.0; }
+
+}  // namespace
+
+HotendModelSetting hotend_model_for(const PlantSpec& plant) {
+  const LtiModel& m = plant.model;
+  HotendModelSetting s;
+  s.fan_loss_pct = 100.0 * fan_loss_fraction(m);
+  if (is_fopdt(m)) {
+    s.rise_k = m.dc_gain_k();
+    s.time_constant_s = -1.0 / m.a(0, 0);
+    s.dead_time_s = m.delay_s;
+    s.source = "exact FOPDT";
+    return s;
+  }
+  const tuning::Fopdt fit = fopdt_approximation(plant);
+  s.rise_k = fit.k_c_per_duty;
+  s.time_constant_s = fit.t_s;
+  s.dead_time_s = fit.tau_s;
+  s.source = "two-point FOPDT fit of the full-power step";
+  return s;
+}
+
+std::string m307_command(const HotendModelSetting& model) {
+  // Three places: the firmware keeps the model in Q8 (1/256).
+  return "M307 A" + format_decimal(model.rise_k, 3) + " C" + format_decimal(model.time_constant_s, 3) +
+         " D" + format_decimal(model.dead_time_s, 3) + " F" + format_decimal(model.fan_loss_pct, 3);
+}
+
+control::design::LtiModel design_model_for(const PlantSpec& plant) {
+  const LtiModel& m = plant.model;
+  const int n = static_cast<int>(m.order());
+  if (n > control::design::kMaxModelStates) throw std::runtime_error(plant.name + ": too many states to design for");
+  control::design::LtiModel d;
+  d.n = n;
+  d.a = control::design::zeros(n, n);
+  d.b = control::design::zeros(n, 1);
+  d.c = control::design::zeros(1, n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) d.a(i, j) = m.a(i, j);
+    d.b(i, 0) = m.b(i, 0);
+    d.c(0, i) = m.c(0, i);
+  }
+  // The bank puts the dead time at the output, the design at the input: the same transfer
+  // function (LTI), and the fan enters through the input path on the seeds (plants.cpp).
+  d.delay_s = m.delay_s;
+  d.ambient_c = plant.ambient_c;
+  d.fan_loss_per_k = 1.0 / m.dc_gain_k(1.0) - 1.0 / m.dc_gain_k(0.0);
+  d.physical_states = m.physical_states;
+  return d;
+}
+
+StateFeedbackSetting state_feedback_for(const PlantSpec& plant) {
+  const control::design::LtiModel model = design_model_for(plant);
+  const control::design::Design d = control::design::design(model);
+  if (d.error) throw std::runtime_error(plant.name + ": state-feedback design failed: " + d.error);
+  StateFeedbackSetting s;
+  if (const char* err = control::design::quantize(d, model.fan_loss_per_k, &s.constants))
+    throw std::runtime_error(plant.name + ": state-feedback constants: " + err);
+  char text[160];
+  std::snprintf(text, sizeof text, "law every %d × 128 ms, dead time %d periods, closed-loop T %.1f s",
+                d.decimation, d.zoh.delay, d.t_cl_s);
+  s.description = text;
+  return s;
+}
+
+std::vector<std::string> m311_commands(const control::StateFeedbackConstants& constants) {
+  std::vector<std::string> lines;
+  control::write_state_feedback_mcode(constants, [&lines](const char* line) { lines.emplace_back(line); });
+  return lines;
+}
+
+}  // namespace sim

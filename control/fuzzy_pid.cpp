@@ -88,9 +88,11 @@ void FuzzyPid::configure(const FuzzyPidConfig& config, uint16_t period_ms) {
   pid_.configure(top, period_ms);
   base_c_ = Pid::coefficients(config.base, period_ms);
   scale_c_ = Pid::coefficients(config.scale, period_ms);
-  // Until the supervisor has run: the nominal gains (the middle of the schedule).
+  // Until the supervisor has run: the nominal gains (the middle of the schedule, Δ = 1.5).
+  // Through Pid::coefficients() rather than the per-step schedule(): set-up code, and it keeps
+  // three inlined copies of schedule() out of the image.
   deltas_ = fuzzy::Deltas{kMidDeltaQ8, kMidDeltaQ8, kMidDeltaQ8};
-  pid_.set_coefficients(last_coefficients());
+  pid_.set_coefficients(Pid::coefficients(last_gains(), period_ms));
   phase_ = 0;
 }
 

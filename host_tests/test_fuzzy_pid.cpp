@@ -4,6 +4,7 @@
 #include "control/fuzzy_pid.h"
 #include "control/fuzzy_reference.h"
 #include "control/fuzzy_surface_gen.h"
+#include "host_tests/hotend40w_model.h"
 
 #include <gtest/gtest.h>
 
@@ -35,28 +36,8 @@ double gain(int32_t q16) { return q16 / 65536.0; }
 const PidGains kMarlinE3d = q16_gains(22.2, 1.08, 114.0);
 const FuzzyPidConfig kDefault = control::fuzzy_config_around(kMarlinE3d, control::kDefaultFuzzySpreadPct);
 
-// issue 2's hotend40w: block 16.7 J/K, 40 W, loss 0.068 W/K (0.097 W/K with the part fan at
-// 100 %), sensor lagging the block at 0.22 /s. RK4, 8 sub-steps per control period.
-struct TwoNodeHotend {
-  double block_c = kAmbientC, sensor_c = kAmbientC, loss_w_per_k = 0.068;
-  void advance(double duty, double seconds) {
-    const int n = 8;
-    const double dt = seconds / n;
-    auto f = [&](double b, double s, double& db, double& ds) {
-      db = (40.0 * duty - loss_w_per_k * (b - kAmbientC)) / 16.7;
-      ds = 0.22 * (b - s);
-    };
-    for (int i = 0; i < n; ++i) {
-      double b1, s1, b2, s2, b3, s3, b4, s4;
-      f(block_c, sensor_c, b1, s1);
-      f(block_c + dt / 2 * b1, sensor_c + dt / 2 * s1, b2, s2);
-      f(block_c + dt / 2 * b2, sensor_c + dt / 2 * s2, b3, s3);
-      f(block_c + dt * b3, sensor_c + dt * s3, b4, s4);
-      block_c += dt / 6 * (b1 + 2 * b2 + 2 * b3 + b4);
-      sensor_c += dt / 6 * (s1 + 2 * s2 + 2 * s3 + s4);
-    }
-  }
-};
+// issue 2's hotend40w (host_tests/hotend40w_model.h).
+using TwoNodeHotend = test_plant::Hotend40w;
 
 // The same controller in double: ec filter, direct Mamdani (not the interpolated grid), and the
 // algorithm of control/pid.h (conditional integration, filtered derivative on measurement).
@@ -98,12 +79,12 @@ template <class Control> Trajectory run(Control control, double seconds, double 
   TwoNodeHotend plant;
   Trajectory t;
   for (int k = 0; k < int(seconds / kPeriodS); ++k) {
-    if (k * kPeriodS >= fan_at_s) plant.loss_w_per_k = 0.097;
-    const double duty = control(plant.sensor_c);
+    if (k * kPeriodS >= fan_at_s) plant.set_fan(1.0);
+    const double duty = control(plant.sensor_c());
     plant.advance(duty, kPeriodS);
-    t.temp_c.push_back(plant.sensor_c);
+    t.temp_c.push_back(plant.sensor_c());
     t.duty.push_back(duty);
-    t.max_c = std::max(t.max_c, plant.sensor_c);
+    t.max_c = std::max(t.max_c, plant.sensor_c());
   }
   return t;
 }
@@ -306,7 +287,7 @@ TEST(FuzzyPid, ScheduledCoefficientsAreThoseOfTheScheduledGains) {
     fuzzy.configure(config, kPeriodMs);
     TwoNodeHotend plant;
     for (int k = 0; k < 4000; ++k) {
-      const uint16_t duty = fuzzy.step({210 * 256, int32_t(std::lround(plant.sensor_c * 256)), 0});
+      const uint16_t duty = fuzzy.step({210 * 256, int32_t(std::lround(plant.sensor_c() * 256)), 0});
       plant.advance(duty / 65535.0, kPeriodS);
       const fuzzy::Deltas d = fuzzy.last_deltas();
       const control::PidCoefficients c = fuzzy.last_coefficients();

@@ -10,6 +10,7 @@
 
 #include "control/fixed.h"
 #include "control/pid.h"
+#include "host_tests/hotend40w_model.h"
 
 namespace {
 
@@ -50,34 +51,8 @@ class ReferencePid {
   bool have_previous_ = false;
 };
 
-// issue 2's `hotend40w`: heater block 16.7 J/K, 40 W, 0.068 W/K to ambient; the sensor lags the
-// block at 0.22 /s. RK4 in 16 ms sub-steps (8 per control period).
-class TwoNodeHotend {
- public:
-  double sensor_c() const { return sensor_c_; }
-  double block_c() const { return block_c_; }
-  void advance(double duty, double seconds) {
-    const int n = 8;
-    const double dt = seconds / n;
-    for (int i = 0; i < n; ++i) {
-      auto f = [duty](double b, double s, double& db, double& ds) {
-        db = (40.0 * duty - 0.068 * (b - kAmbientC)) / 16.7;
-        ds = 0.22 * (b - s);
-      };
-      double b1, s1, b2, s2, b3, s3, b4, s4;
-      f(block_c_, sensor_c_, b1, s1);
-      f(block_c_ + dt / 2 * b1, sensor_c_ + dt / 2 * s1, b2, s2);
-      f(block_c_ + dt / 2 * b2, sensor_c_ + dt / 2 * s2, b3, s3);
-      f(block_c_ + dt * b3, sensor_c_ + dt * s3, b4, s4);
-      block_c_ += dt / 6 * (b1 + 2 * b2 + 2 * b3 + b4);
-      sensor_c_ += dt / 6 * (s1 + 2 * s2 + 2 * s3 + s4);
-    }
-  }
-
- private:
-  double block_c_ = kAmbientC;
-  double sensor_c_ = kAmbientC;
-};
+// issue 2's `hotend40w` (host_tests/hotend40w_model.h), under the name the trajectories use.
+using TwoNodeHotend = test_plant::Hotend40w;
 
 // First order plus dead time, seed 002's dynamics (T = 24 s, θ = 20.7 s) with the gain rescaled as
 // in issue 2 (100 % duty settles 450 K above ambient). Duty is held per control period (ZOH),

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -10,7 +11,9 @@ namespace sim {
 namespace {
 
 constexpr double kWidth = 900, kPanelHeight = 260, kLeft = 60, kRight = 20, kTop = 40, kGap = 50;
-constexpr std::size_t kMaxPoints = 1500;  // per polyline: buckets are averaged down to this
+// Per polyline: buckets are averaged down to between this and twice this many points (about a
+// point per pixel of the 820-pixel plot area; keeps a 7-run plot below 200 KB for the repository).
+constexpr std::size_t kMaxPoints = 600;
 const char* const kColours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
                                 "#8c564b", "#e377c2", "#17becf", "#7f7f7f", "#bcbd22"};
 constexpr double kZoomC = 5.0;  // the middle panel: target ± this
@@ -27,6 +30,13 @@ Axis nice_axis(double lo, double hi) {
   const double mag = std::pow(10.0, std::floor(std::log10(raw)));
   const double step = raw / mag < 2 ? 2 * mag : raw / mag < 5 ? 5 * mag : 10 * mag;
   return Axis{std::floor(lo / step) * step, std::ceil(hi / step) * step, step};
+}
+
+// Pixel coordinates: a tenth of a pixel is finer than any display.
+std::string fmt_px(double v) {
+  char text[24];
+  std::snprintf(text, sizeof text, "%.1f", v);
+  return text;
 }
 
 std::string fmt(double v) {
@@ -48,7 +58,7 @@ std::string polyline(const std::vector<double>& t, const std::vector<double>& y,
     // Clamped to the panel: the zoomed panel shows far-off values on its edge.
     const double v = std::clamp(sy / per, ay.lo, ay.hi);
     const double yy = top + kPanelHeight - (v - ay.lo) / (ay.hi - ay.lo) * kPanelHeight;
-    out << fmt(x) << "," << fmt(yy) << " ";
+    out << fmt_px(x) << "," << fmt_px(yy) << " ";
   }
   out << "\"/>\n";
   return out.str();
@@ -132,7 +142,9 @@ void write_svg_plot(const std::string& path, const std::string& title,
     const PlotSeries& s = series[i];
     const char* colour = kColours[i % (sizeof kColours / sizeof *kColours)];
     out << polyline(s.time_s, s.true_c, tx, ay, kTop, colour)
-        << polyline(s.time_s, s.target_c, tx, ay, kTop, colour, "stroke-dasharray=\"4 3\"")
+        << (i == 0 || s.target_c != series[0].target_c  // one dashed target for runs that share it
+                ? polyline(s.time_s, s.target_c, tx, ay, kTop, colour, "stroke-dasharray=\"4 3\"")
+                : std::string())
         << polyline(s.time_s, s.true_c, tx, az, top2, colour)
         << polyline(s.time_s, s.heater_duty, tx, au, top3, colour) << "<text x=\"" << kWidth - kRight - 8
         << "\" y=\"" << kTop + kPanelHeight - 10 - 15.0 * (series.size() - 1 - i)

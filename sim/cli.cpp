@@ -11,6 +11,7 @@
 #include "sim/bench_command.h"
 #include "sim/cli_args.h"
 #include "sim/default_gains.h"
+#include "sim/plant_model.h"
 #include "sim/report.h"
 #include "sim/run_setup.h"
 #include "sim/run_files.h"
@@ -142,6 +143,13 @@ int list_command() {
               << "      default gains P " << format_fixed(g.gains.kp, 3) << " I "
               << format_fixed(g.gains.ki, 4) << " D " << format_fixed(g.gains.kd, 2) << " (" << g.description
               << ")\n";
+    const HotendModelSetting m = hotend_model_for(p);
+    std::cout << "      feedforward model " << m307_command(m) << " (" << m.source << ")\n";
+    try {
+      std::cout << "      state feedback: " << state_feedback_for(p).description << "\n";
+    } catch (const std::exception& e) {
+      std::cout << "      state feedback: " << e.what() << "\n";
+    }
   }
   return 0;
 }

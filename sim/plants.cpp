@@ -1,5 +1,7 @@
 #include "sim/plants.h"
 
+#include "control/lti_seed_models.h"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -59,6 +61,20 @@ LtiModel rescaled_state_space(Matrix a, Matrix b, Matrix c) {
   return m;
 }
 
+// The seed's identified matrices, taken from control/lti_seed_models.h (one copy of the
+// paper's numbers for the design code and the simulator), with the input rescaled as above.
+LtiModel rescaled_state_space(const control::design::LtiModel& seed) {
+  const std::size_t n = static_cast<std::size_t>(seed.n);
+  Matrix a(n, n), b(n, 1), c(1, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; j < n; ++j) a(i, j) = seed.a(int(i), int(j));
+    b(i, 0) = seed.b(int(i), 0);
+    c(0, i) = seed.c(0, int(i));
+  }
+  return rescaled_state_space(std::move(a), std::move(b), std::move(c));
+}
+
+
 // Two thermal nodes: heater block (capacity C, heater P, loss h to ambient, h rising linearly
 // with the part fan) and the thermistor, which follows the block with rate k.
 LtiModel two_node(double capacity_j_per_k, double heater_w, double loss_w_per_k, double loss_fan_full_w_per_k,
@@ -91,23 +107,12 @@ std::vector<PlantSpec> make_bank() {
   // Seed 000/001 eq. (1): 4 states, identified on a Sanguinololu Prusa Mendel hotend.
   bank.push_back(
       {"seed000-4", "4-state identified model (seed 000 eq. 1, Surmak & Piotrowski)",
-       with_fan_loss(rescaled_state_space(Matrix{{0.0008825, -0.002625, 0.001638, -0.004195},
-                                                 {0.006013, 0.01268, 0.2325, -0.4324},
-                                                 {0.001642, -0.1009, -0.07618, 1.912},
-                                                 {0.001088, 0.01527, -1.538, -0.07442}},
-                                          Matrix::column({-2.87e-7, -5.262e-6, 5.458e-5, -9.529e-5}),
-                                          Matrix{{1107.0, -0.4442, -0.3671, -0.5748}})),
+       with_fan_loss(rescaled_state_space(control::design::seed000_4_raw())),
        25.0, 150.0, 3600.0});
   // Seed 000/001 eq. (3): 5 states.
   bank.push_back(
       {"seed000-5", "5-state identified model (seed 000 eq. 3, Surmak & Piotrowski)",
-       with_fan_loss(rescaled_state_space(Matrix{{0.000889, -0.00239, 0.00281, 0.004382, -0.001348},
-                                                 {0.007245, -0.00519, 0.2566, 0.1581, -0.2902},
-                                                 {-0.000451, -0.09917, -0.2531, -2.621, 1.16},
-                                                 {0.000709, 0.01095, 2.238, -0.2162, -0.7223},
-                                                 {-0.00246, -0.05437, 0.4936, 0.6984, -7.359}},
-                                          Matrix::column({1.919e-7, 1.336e-4, -2.284e-4, 6.544e-4, 3.081e-3}),
-                                          Matrix{{1098.0, 0.808, -2.372, -1.776, -1.297}})),
+       with_fan_loss(rescaled_state_space(control::design::seed000_5_raw())),
        25.0, 150.0, 3600.0});
   return bank;
 }

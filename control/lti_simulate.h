@@ -1,6 +1,7 @@
 // A double-precision plant for closed-loop checks of designs (tests, `hotend-design`): the
 // continuous model integrated exactly (ZOH) on a 4 ms grid, with the input dead time as a delay
-// line, a part fan that raises the heat loss, an unmodelled input disturbance, an ambient that
+// line, a part fan that raises the heat loss (through the same dead time as the heater: it cools
+// the heated block, as in sim/plants.h), an unmodelled input disturbance, an ambient that
 // may differ from the model's, and optional sensor noise. Host-only, header-only.
 #pragma once
 
@@ -36,10 +37,12 @@ class PlantSim {
     const int steps = static_cast<int>(period_s / kDt + 0.5);
     for (int s = 0; s < steps; ++s) {
       line_[head_] = duty;
-      const double delayed = line_[(head_ + kMaxDelaySteps - delay_steps_) % kMaxDelaySteps];
+      fan_line_[head_] = fan_;
+      const int tail = (head_ + kMaxDelaySteps - delay_steps_) % kMaxDelaySteps;
       head_ = (head_ + 1) % kMaxDelaySteps;
       const double cooled = fan_state_ >= 0 ? x_(fan_state_, 0) : (m_.c * x_)(0, 0);
-      const double input = gain_ * delayed + disturbance_ - m_.fan_loss_per_k * fan_ * cooled;
+      const double input =
+          gain_ * line_[tail] + disturbance_ - m_.fan_loss_per_k * fan_line_[tail] * cooled;
       x_ = step_.phi * x_ + input * step_.gamma;
       t_s_ += kDt;
     }
@@ -70,6 +73,7 @@ class PlantSim {
   ExpIntegral step_;
   Mat x_;
   double line_[kMaxDelaySteps] = {};
+  double fan_line_[kMaxDelaySteps] = {};  // the fan's loss takes the heater's path
   int head_ = 0;
   int delay_steps_ = 0;
   double fan_ = 0, disturbance_ = 0, ambient_c_ = 25, noise_c_ = 0, gain_ = 1, t_s_ = 0;

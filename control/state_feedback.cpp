@@ -26,18 +26,12 @@ inline int32_t clamp_abs(int32_t v, int32_t limit) {
 
 // 2^sh (0 <= sh <= 31) and arithmetic shift right: whole bytes first (register moves on AVR),
 // then at most 7 single-bit steps. The design picks byte-aligned exponents for the observer
-// gains (the busiest call), so those shifts are register moves.
+// gains (the busiest call), so those shifts are register moves. pow2 shifts the bit within a
+// byte (8-bit steps are cheap on AVR) and then moves bytes: no 32-bit shift loop.
 inline uint32_t pow2(uint8_t sh) {
-  uint32_t v = 1;
-  if (sh >= 16) {
-    v = uint32_t(1) << 16;
-    sh -= 16;
-  }
-  if (sh >= 8) {
-    v <<= 8;
-    sh -= 8;
-  }
-  while (sh--) v <<= 1;
+  uint32_t v = static_cast<uint8_t>(1u << (sh & 7));
+  if (sh & 16) v <<= 16;
+  if (sh & 8) v <<= 8;
   return v;
 }
 
@@ -70,17 +64,18 @@ inline int32_t shl_sat(int32_t v, uint8_t n) {
   return v;
 }
 
-// v·2^−sh: rounded half up for sh > 0 (|v| < 2^30 here), saturating shl_sat for sh <= 0.
+// v·2^−sh: rounded half up for sh > 0, saturating shl_sat for sh <= 0. The rounding is
+// floor((floor(v / 2^(sh−1)) + 1) / 2) = floor((v + 2^(sh−1)) / 2^sh): no 2^sh to build, and
+// no overflow for any v.
 inline int32_t scale(int32_t v, int8_t sh) {
-  if (sh > 0)
-    return asr(v + static_cast<int32_t>(pow2(static_cast<uint8_t>(sh)) >> 1),
-               static_cast<uint8_t>(sh));
+  if (sh > 0) return (asr(v, static_cast<uint8_t>(sh - 1)) + 1) >> 1;
   return shl_sat(v, static_cast<uint8_t>(-sh));
 }
 
-// duty_q16 · 2^p (p <= 10, no overflow): the duty as a Q(16+p) signal.
-inline int32_t duty_signal(uint16_t duty_q16, uint8_t p) {
-  int32_t v = duty_q16;
+// Signed duty Q15 (the history) · 2^(p+1) (p <= 10, no overflow): the duty as a Q(16+p) signal.
+inline int32_t duty_signal(int16_t duty_q15, uint8_t p) {
+  int32_t v = duty_q15;
+  ++p;
   if (p >= 8) {
     v *= 256;
     p -= 8;
@@ -123,16 +118,17 @@ void StateFeedback::prime(int32_t measured_q8, uint16_t duty_q16, bool zero_bias
     residual_[i] = 0;
   }
   const int32_t v = scale(mulhi16(k_.inv_gain, rise), exponent(k_.inv_gain_shift));
-  const int32_t u = duty_signal(duty_q16, k_.input_shift);
+  const int32_t u = duty_signal(static_cast<int16_t>(duty_q16 >> 1), k_.input_shift);
   bias_ = zero_bias ? 0 : clamp_abs(v - u, static_cast<int32_t>(pow2(16 + k_.input_shift)));
-  for (uint8_t j = 0; j <= kSfMaxDelay; ++j) hist_[j] = duty_q16;
+  const int16_t duty_q15 = static_cast<int16_t>(duty_q16 >> 1);
+  for (uint8_t j = 0; j <= kSfMaxDelay; ++j) hist_[j] = duty_q15;
   head_ = 0;
   duty_q16_ = duty_q16;
   phase_ = k_.delay > 0 ? 2 : 0;  // predictor sum first (its chunks), then the first law update
   primed_ = true;
 }
 
-uint16_t StateFeedback::history(uint8_t j) const {
+int16_t StateFeedback::history(uint8_t j) const {
   const uint8_t idx = head_ >= j ? head_ - j : head_ + (kSfMaxDelay + 1) - j;
   return hist_[idx];
 }
@@ -171,26 +167,33 @@ void StateFeedback::law_update(const StepInput& in) {
     x[i] = clamp_abs(x[i] + scale(mulhi16(gain[i], e), exponent(shift[i])), kSignalLimit);
   bias_ = clamp_abs(bias_ + scale(mulhi16(gain[n], e), exponent(shift[n])),
                     static_cast<int32_t>(pow2(16 + k_.input_shift)));  // ±100 % duty
-  // Known part-fan loss (−gain·fan·rise) joins the bias the law cancels and the model is fed.
-  int32_t b = bias_;
-  if (k_.fan_gain != 0 && in.fan_duty != 0 && y > 0) {
-    const int32_t rise_fan = (y >> 8) * static_cast<int32_t>(in.fan_duty);  // °C Q8 × 0..255
-    b = clamp_abs(b - scale(mulhi16(k_.fan_gain, rise_fan), exponent(k_.fan_shift)), kSignalLimit);
-  }
-  b_ = b;
-  // Law on the predicted state, straight to duty Q16: M r − L_D x̂ − g_d b − Σ h_j u[k−j].
+  // Law on the predicted state, in effective duty (heater minus the fan's loss), Q16:
+  // M r − L_D x̂ − g_d d̂ − Σ h_j u_eff[k−j].
   const int32_t r = to_q16(in.target_q8 - k_.ambient_q8);
-  int32_t acc = mulhi16(k_.ff_gain, r) - mulhi16(k_.bias_gain, b);
+  int32_t acc = mulhi16(k_.ff_gain, r) - mulhi16(k_.bias_gain, bias_);
   for (uint8_t j = 0; j < n; ++j)
     if (k_.fb_gain[j] != 0) acc -= mulhi16(k_.fb_gain[j], x[j]);
   const int8_t p = static_cast<int8_t>(k_.input_shift);
   int32_t u = scale(acc, static_cast<int8_t>(exponent(k_.ctrl_shift) + p));
   if (k_.delay > 0)
-    u -= scale(fir_, static_cast<int8_t>(static_cast<int8_t>(k_.fir_shift) + p - 8));
-  u = u < 0 ? 0 : (u > 65535 ? 65535 : u);
-  duty_q16_ = static_cast<uint16_t>(u);
+    u -= scale(fir_, static_cast<int8_t>(static_cast<int8_t>(k_.fir_shift) + p - 9));
+  u = clamp_abs(u, kSignalLimit);
+  // Known part-fan loss (gain·fan·rise, duty Q16) added with weight 1: the fan's cooling reaches
+  // the sensor through the same dead time as the heater, so the extra duty applied now cancels
+  // it as it arrives and the loop (model, history, predictor) never sees the fan.
+  int32_t fan_q16 = 0;
+  if (k_.fan_gain != 0 && in.fan_duty != 0 && y > 0) {
+    const int32_t rise_fan = (y >> 8) * static_cast<int32_t>(in.fan_duty);  // °C Q8 × 0..255
+    fan_q16 = scale(mulhi16(k_.fan_gain, rise_fan), static_cast<int8_t>(exponent(k_.fan_shift) + p));
+    fan_q16 = fan_q16 < 0 ? 0 : (fan_q16 > 65535 ? 65535 : fan_q16);
+  }
+  int32_t applied = u + fan_q16;
+  applied = applied < 0 ? 0 : (applied > 65535 ? 65535 : applied);
+  duty_q16_ = static_cast<uint16_t>(applied);
+  // The model's input is what the heater really did net of the fan: it is negative when the
+  // heater is off with the fan on (history in signed Q15, ±100 %; floor keeps 65535 in range).
   head_ = head_ == kSfMaxDelay ? 0 : head_ + 1;
-  hist_[head_] = duty_q16_;
+  hist_[head_] = static_cast<int16_t>((applied - fan_q16) >> 1);
 }
 
 // x̂[k+1] from x̂[k] and the applied duty: every row reads the old vector, so all deltas are
@@ -200,9 +203,9 @@ void StateFeedback::law_update(const StepInput& in) {
 void StateFeedback::time_update() {
   const uint8_t n = k_.n;
   const uint8_t p = k_.input_shift;
-  const int32_t va = clamp_abs(duty_signal(history(k_.delay), p) + b_, kSignalLimit);
+  const int32_t va = clamp_abs(duty_signal(history(k_.delay), p) + bias_, kSignalLimit);
   const int32_t vb =
-      k_.delay > 0 ? clamp_abs(duty_signal(history(k_.delay - 1), p) + b_, kSignalLimit) : va;
+      k_.delay > 0 ? clamp_abs(duty_signal(history(k_.delay - 1), p) + bias_, kSignalLimit) : va;
   int32_t delta[kSfMaxStates];
   for (uint8_t i = 0; i < n; ++i) {
     int32_t acc = mulhi16(k_.phi_diag[i], x_q16_[i]);
@@ -224,14 +227,14 @@ void StateFeedback::time_update() {
 }
 
 // Taps j = 16c+1 .. 16c+16 (<= D) of Σ h_j·u[k+1−j] for the next law update; u[k] is at head_.
-// Products are pre-shifted by 8 so 32 of them fit in int32.
+// Products (mantissa × duty Q15) are pre-shifted by 8 so 32 of them fit in int32.
 void StateFeedback::fir_chunk(uint8_t chunk) {
   if (chunk == 0) fir_ = 0;
   const uint8_t first = chunk * kSfFirChunk;  // tap index j − 1
   uint8_t count = k_.delay - first;
   if (count > kSfFirChunk) count = kSfFirChunk;
   const int16_t* h = &k_.fir[first];
-  const uint16_t* u = &hist_[head_ >= first ? head_ - first : head_ + (kSfMaxDelay + 1) - first];
+  const int16_t* u = &hist_[head_ >= first ? head_ - first : head_ + (kSfMaxDelay + 1) - first];
   int32_t sum = fir_;
   for (; count != 0; --count) {
     sum += (static_cast<int32_t>(*h++) * static_cast<int32_t>(*u)) >> 8;

@@ -5,9 +5,13 @@
 //
 // Each law period (decimation × 128 ms, spread over the period's step() calls):
 //   call 0: innovation e = y − Σ x̂ (masked)  → x̂ += K e, d̂ += K_d e    (current observer)
-//           u = clamp(M r − L_D x̂ − g_d (d̂ + fan) − Σ h_j u[k−j], 0..100 %)  (predictive law)
-//   call 1: x̂ ← x̂ + (Φ−I) x̂ + Γa (u[k−D] + d̂ + fan) + Γb (u[k−D+1] + d̂ + fan)  (time update)
-//   2.. : Σ h_j u[k+1−j] for the next law update, kSfFirChunk taps per call
+//           v = M r − L_D x̂ − g_d d̂ − Σ h_j v[k−j]                         (predictive law)
+//           u = clamp(v + fan, 0..100 %), history v[k] = u − fan         (fan feedforward)
+//   call 1: x̂ ← x̂ + (Φ−I) x̂ + Γa (v[k−D] + d̂) + Γb (v[k−D+1] + d̂)      (time update)
+//   2.. : Σ h_j v[k+1−j] for the next law update, kSfFirChunk taps per call
+// fan = the known part-fan loss in duty (gain·fan·rise). The fan cools the block, so its effect
+// reaches the sensor through the heater's dead time: adding it to the applied duty with weight 1
+// cancels it as it arrives, and the model runs on the effective input v (heater minus fan loss).
 // The observer and predictor use the applied (clamped) duty and nothing integrates the control
 // error, so nothing winds up at 0 %/100 %; d̂ (input bias: model error, ambient, unmodelled
 // loss) is clamped to ±100 % duty.
@@ -40,15 +44,14 @@ class StateFeedback final : public Controller {
   void law_update(const StepInput& in);
   void time_update();
   void fir_chunk(uint8_t chunk);
-  uint16_t history(uint8_t j) const;  // u[k−j], k = the last law update
+  int16_t history(uint8_t j) const;  // v[k−j] (duty Q15), k = the last law update
 
   StateFeedbackConstants k_ = {};
   int32_t x_q16_[kSfMaxStates] = {};
   uint32_t residual_[kSfMaxStates] = {};  // time-update bits below Q16, carried (no dead band)
   int32_t bias_ = 0;                      // d̂, duty Q(16+p)
-  int32_t b_ = 0;                         // d̂ + fan term used by the last law update
-  int32_t fir_ = 0;                       // Σ h_j u[k+1−j] (pre-shifted by 8), next law update
-  uint16_t hist_[kSfMaxDelay + 1] = {};   // ring of applied duties, duty_q16
+  int32_t fir_ = 0;                       // Σ h_j v[k+1−j] (pre-shifted by 8), next law update
+  int16_t hist_[kSfMaxDelay + 1] = {};    // ring of effective inputs v (duty minus fan), Q15
   uint8_t head_ = 0;                      // index of u[k] in hist_
   uint8_t phase_ = 0;                     // which call of the law period comes next
   uint16_t duty_q16_ = 0;

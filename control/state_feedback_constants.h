@@ -37,8 +37,8 @@ struct StateFeedbackConstants {
   //   x_i += (phi_diag[i]·x_i + phi_off[i]·x_{phi_col[i]} + gamma_a[i]·v_a + gamma_b[i]·v_b)
   //          / 2^phi_shift[i]
   //   with phi_diag/phi_off the entries of Φ − I. The design's realisations (modal form, two
-  //   lags or two nodes) couple each state to at most one other; v_a = u[k−D] + d̂ (+ fan term),
-  //   v_b = u[k−D+1] + d̂ (…), in duty Q(16+p).
+  //   lags or two nodes) couple each state to at most one other; v_a = v[k−D] + d̂,
+  //   v_b = v[k−D+1] + d̂, in duty Q(16+p), with v the effective input (duty − fan loss).
   int16_t phi_diag[kSfMaxStates];
   int16_t phi_off[kSfMaxStates];
   uint8_t phi_col[kSfMaxStates];
@@ -61,7 +61,8 @@ struct StateFeedbackConstants {
   int16_t fir[kSfMaxDelay];  // h_j · 2^p
   uint8_t fir_shift;
 
-  // Part-fan feedforward: extra loss = fan_gain · (fan/255) · rise, in duty Q(16+p) per °C Q8.
+  // Part-fan feedforward: extra loss = fan_gain · (fan/255) · rise, in duty Q(16+p) per °C Q8;
+  // added to the applied duty with weight 1 (it passes the heater's dead time, as the fan does).
   int16_t fan_gain;
   uint8_t fan_shift;
 

@@ -51,16 +51,18 @@ class ReferenceController {
     const double e = y - y_model;
     for (int i = 0; i < n; ++i) x_[i] += d_.k_obs(i, 0) * e;
     bias_ += d_.k_obs(n, 0) * e;
-    // Known part-fan loss acts like a bias the model can name: −loss·fan·rise.
-    const double b = bias_ - fan_loss_per_k_ * fan * (y > 0 ? y : 0);
-    double v = d_.m * (target_c - amb) - d_.g_d * b;
+    // Law in effective input (heater minus the known fan loss); the fan loss is added to the
+    // applied duty with weight 1, so it passes the dead time with the fan's own effect.
+    double v = d_.m * (target_c - amb) - d_.g_d * bias_;
     for (int i = 0; i < n; ++i) v -= d_.lx(0, i) * x_[i];
     for (int j = 1; j <= dd; ++j) v -= d_.h[j - 1] * hist_[j];
-    double u = v < 0 ? 0 : (v > 1 ? 1 : v);
-    hist_[0] = u;
-    // Time update with the applied (clamped) duty: nothing winds up in saturation.
-    const double ua = hist_[dd] + b;
-    const double ub = (dd > 0 ? hist_[dd - 1] : u) + b;
+    const double fan_duty = fan_loss_per_k_ * fan * (y > 0 ? y : 0);
+    const double u0 = v + fan_duty;
+    const double u = u0 < 0 ? 0 : (u0 > 1 ? 1 : u0);
+    hist_[0] = u - fan_duty;
+    // Time update with the applied (clamped) effective input: nothing winds up in saturation.
+    const double ua = hist_[dd] + bias_;
+    const double ub = hist_[dd > 0 ? dd - 1 : 0] + bias_;
     double next[kMatCap];
     for (int i = 0; i < n; ++i) {
       double s = d_.zoh.gamma_a(i, 0) * ua + d_.zoh.gamma_b(i, 0) * ub;
@@ -82,7 +84,7 @@ class ReferenceController {
   double fan_loss_per_k_;
   double x_[kMatCap] = {};
   double bias_ = 0;
-  double hist_[kSfMaxDelay + 1] = {};  // hist_[j] = u[k−j]
+  double hist_[kSfMaxDelay + 1] = {};  // hist_[j] = v[k−j], heater minus fan loss
   double duty_ = 0;
   int phase_ = 0;
   bool primed_ = false;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <initializer_list>
 
 #include "host_tests/test_state_feedback_loop.h"
@@ -18,16 +19,26 @@ double arrival_bound_s(const Plant& p, double target_c) {
   return full_power_rise_time(p.model, target_c - 25.0) + p.model.delay_s;
 }
 
+// Heat-up, then (second pass) a part-fan step: the fan feedforward and the effective-input
+// history (signed Q15 in the runtime) must follow the reference too.
 TEST(StateFeedbackClosedLoop, FixedPointTracksTheDoubleReference) {
-  Scenario s;
-  s.noise_c = 0.05;  // identical noise sequences on both plants
-  for (int i = 0; i < kPlantCount; ++i) {
-    const Plant p = plant(i);
-    SCOPED_TRACE(p.name);
-    Loop loop(p, s);
-    ASSERT_EQ(loop.error(), nullptr);
-    const Metrics m = loop.run(true);
-    EXPECT_LT(m.max_dev_ref_c, 0.3);
+  for (bool fan : {false, true}) {
+    Scenario s;
+    s.noise_c = 0.05;  // identical noise sequences on both plants
+    for (int i = 0; i < kPlantCount; ++i) {
+      Plant p = plant(i);
+      SCOPED_TRACE(p.name);
+      SCOPED_TRACE(fan ? "fan step" : "heat-up");
+      if (fan) {
+        s.event_s = p.seconds;
+        s.event_fan = true;
+        p.seconds *= 2;
+      }
+      Loop loop(p, s);
+      ASSERT_EQ(loop.error(), nullptr);
+      const Metrics m = loop.run(true);
+      EXPECT_LT(m.max_dev_ref_c, 0.3);
+    }
   }
 }
 
@@ -48,10 +59,12 @@ TEST(StateFeedbackClosedLoop, HeatsWithoutOvershootNearThePhysicalBound) {
   }
 }
 
-// Part fan 0 → 100 % once settled (the plants' fan model: extra loss ∝ rise, undelayed). With
-// the fan feedforward the dip is tiny wherever the heater acts without dead time; with 20 s of
-// dead time no controller can answer sooner, so the dip is bounded by the loss the plant
-// integrates over τ: K·loss·(1 − e^(−τ/T)) with loss = fan_loss·rise (≈ 45 K on seed002).
+// Part fan 0 → 100 % once settled. The fan's extra loss (∝ the block's rise) cools the block,
+// so it reaches the sensor through the heater's dead time (lti_simulate.h, sim/plants.h). The
+// fan feedforward adds the loss to the applied duty with weight 1: it arrives with the fan's
+// effect and cancels it, also on the 20 s dead-time plants (issue 3: dip <= 2 °C). Without it
+// the observer must see the dip first; with dead time the heater's answer is then τ late, so the
+// dip approaches the loss the plant integrates over τ: K·loss·(1 − e^(−τ/T)) (≈ 45 K, seed002).
 TEST(StateFeedbackClosedLoop, FanStepRecoversOnEveryPlant) {
   for (int i = 0; i < kPlantCount; ++i) {
     for (bool feedforward : {false, true}) {
@@ -67,13 +80,20 @@ TEST(StateFeedbackClosedLoop, FanStepRecoversOnEveryPlant) {
       Loop loop(p, s);
       const Metrics m = loop.run(false);
       const double rise = p.target_c - 25.0;
-      double limit = feedforward ? 0.5 : 2.0;
-      if (p.model.delay_s > 0) {
+      double limit = 2.0;
+      if (feedforward) {
+        limit = 0.5;
+      } else if (p.model.delay_s > 0) {
         const double t = -1.0 / p.model.a(0, 0), k = p.model.b(0, 0) * t;
         limit = k * p.model.fan_loss_per_k * rise * (1 - std::exp(-p.model.delay_s / t));
       }
       EXPECT_LE(m.max_dip_c, limit);
+      if (feedforward) {
+        EXPECT_LE(m.max_rise_c, 0.5);  // nothing pre-compensated twice
+      }
       EXPECT_LT(std::fabs(m.final_error_c), 0.2);
+      std::printf("%-10s ff %d: fan dip %.2f K, rise %.2f K\n", p.name, feedforward, m.max_dip_c,
+                  m.max_rise_c);
     }
   }
 }

@@ -42,6 +42,7 @@ struct Metrics {
   double p2p_c = 0;             // same window
   double max_dev_ref_c = 0;     // |fixed − reference| true temperatures (when compared)
   double max_dip_c = 0;         // target − true after the event
+  double max_rise_c = 0;        // true − target after the event (overshoot a fan step leaves)
   double final_error_c = 0;     // at the end
   double past_target_c = -1e9;  // furthest excursion beyond the target, on the side away from
                                 // where the temperature came from (overshoot or undershoot)
@@ -161,6 +162,7 @@ class Loop {
         }
       } else {
         m.max_dip_c = std::fmax(m.max_dip_c, target - y);
+        m.max_rise_c = std::fmax(m.max_rise_c, y - target);
       }
       m.final_error_c = y - target;
     }

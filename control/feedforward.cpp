@@ -34,4 +34,95 @@ uint16_t Feedforward::duty_q16(int32_t target_q8, uint8_t fan_duty) const {
   return fixed::sat_u16(base_q16 + extra);
 }
 
+constexpr uint8_t ModelReference::kTaps;
+
+ModelReference::Rate ModelReference::rate(int32_t time_constant_q8, uint16_t period_ms) {
+  // x advances every other period, so its step is 2h. α = 2h/(C + 2h) = (ms·512) / (C_q8·1000 +
+  // ms·512); den < 2^30 for C ≤ 3600 s.
+  const uint32_t num = uint32_t{period_ms} * 512;
+  const uint32_t den = static_cast<uint32_t>(time_constant_q8) * 1000 + num;
+  // α < 1/256: keep it × 256 (a byte shift per step) so that it holds ≥ 8 significant bits
+  // (C = 3600 s: α·2^24 ≈ 1,200); else plain Q16.
+  const bool small = (num << 8) < den;
+  const uint32_t m = fixed::mul_div_u32(num, small ? (1UL << 24) : (1UL << 16), den);
+  return Rate{static_cast<uint16_t>(m > 0xFFFF ? 0xFFFF : m), small};
+}
+
+void ModelReference::configure(const HotendModel& m, uint16_t period_ms) {
+  plant_ = rate(m.time_constant_q8, period_ms);
+  full_q16_ = (kFeedforwardAmbientQ8 + m.rise_q8) << 8;
+  // Taps every spacing_ periods (even: they are written at reference updates, every other
+  // period), (kTaps − 1)·spacing_ ≥ D; the reference reads offset_ periods later than the
+  // oldest tap so that the delay is D to the period. D ≤ 600 s at h ≥ 10 ms: ≤ 60,000 periods.
+  const uint32_t dead_periods =
+      (fixed::mul_div_u32(static_cast<uint32_t>(m.dead_time_q8), 1000, period_ms) + 128) >> 8;
+  const uint32_t per_tap = (dead_periods + 2 * (kTaps - 1) - 1) / (2 * (kTaps - 1));  // ceil, in updates
+  spacing_ = static_cast<uint16_t>(2 * per_tap);
+  // (kTaps − 1)·spacing_ − D < 2·(kTaps − 1) periods: whole taps (≤ 14, so the pair read stays
+  // inside the ring) and the rest.
+  const uint32_t slack = uint32_t{spacing_} * (kTaps - 1) - dead_periods;
+  offset_taps_ = spacing_ > 0 ? static_cast<uint8_t>(slack / spacing_) : 0;
+  offset_ = spacing_ > 0 ? static_cast<uint16_t>(slack % spacing_) : 0;
+  frac_per_period_q16_ = spacing_ > 1 ? static_cast<uint16_t>(65536UL / spacing_) : 0;
+}
+
+void ModelReference::start(int32_t measured_q8, int32_t x_q8) {
+  x_q16_ = x_q8 << 8;
+  for (int32_t& t : tap_q8_) t = measured_q8;
+  reference_q8_ = measured_q8;
+  duty_q16_ = 0;
+  newest_ = 0;
+  count_ = 0;
+  odd_ = false;
+}
+
+ModelReference::Output ModelReference::step(int32_t target_q8, uint16_t steady_q16) {
+  // Half the work each period (the x update, then the reference), so no step pays for both.
+  odd_ = !odd_;
+  if (odd_) {
+    const int32_t target_q16 = target_q8 << 8;
+    int32_t x = x_q16_;
+    uint16_t duty_q16 = steady_q16;
+    if (x < target_q16) {  // heating at full power until x would pass the target
+      x += scaled(full_q16_ - x);
+      if (x < target_q16) duty_q16 = 65535; else x = target_q16;
+    } else if (x > target_q16) {  // cooling with the heater off
+      x += scaled((kFeedforwardAmbientQ8 << 8) - x);
+      if (x > target_q16) duty_q16 = 0; else x = target_q16;
+    }
+    x_q16_ = x;
+    duty_q16_ = duty_q16;
+  } else if (spacing_ == 0) {
+    reference_q8_ = (x_q16_ + 128) >> 8;  // no dead time
+  } else {
+    // Delay line: a tap every spacing_ periods; the reference interpolates between the two
+    // oldest, (kTaps − 1)·spacing_ periods ≈ D behind x.
+    count_ = static_cast<uint16_t>(count_ + 2);
+    if (count_ >= spacing_) {
+      count_ = 0;
+      newest_ = static_cast<uint8_t>((newest_ + 1) & (kTaps - 1));
+      tap_q8_[newest_] = (x_q16_ + 128) >> 8;
+    }
+    uint16_t position = static_cast<uint16_t>(count_ + offset_);  // periods past the oldest tap
+    uint8_t older = static_cast<uint8_t>(newest_ + 1 + offset_taps_);
+    if (position >= spacing_) {
+      position = static_cast<uint16_t>(position - spacing_);
+      ++older;
+    }
+    const int32_t a_q8 = tap_q8_[older & (kTaps - 1)];
+    const int32_t b_q8 = tap_q8_[(older + 1) & (kTaps - 1)];
+    const uint16_t frac_q16 = static_cast<uint16_t>(position * frac_per_period_q16_);
+    reference_q8_ = a_q8 + fixed::mul_q16_round(b_q8 - a_q8, frac_q16);
+  }
+  // The steady duty follows the fan at once; only the heat-up phases come from the model.
+  const uint16_t duty_q16 = duty_q16_ == 65535 || duty_q16_ == 0 ? duty_q16_ : steady_q16;
+  return Output{reference_q8_, duty_q16};
+}
+
+int32_t ModelReference::scaled(int32_t difference_q16) const {
+  // |difference| < 2^28 here (temperatures within ±2048 °C).
+  const int32_t s = fixed::mul_q16_round(difference_q16, plant_.mantissa_q16);
+  return plant_.shift8 ? (s + 128) >> 8 : s;
+}
+
 }  // namespace control

@@ -15,8 +15,8 @@ namespace control {
 // The hotend model hosts set with M307 (RepRapFirmware's letters A, C, D; F is ours). All Q8.
 struct HotendModel {
   int32_t rise_q8;           // A: °C above ambient at 100 % duty, × 256
-  int32_t time_constant_q8;  // C: s × 256 (stored for model-based tools; not used here)
-  int32_t dead_time_q8;      // D: s × 256 (likewise)
+  int32_t time_constant_q8;  // C: s × 256 (ModelReference's plant lag)
+  int32_t dead_time_q8;      // D: s × 256 (ModelReference's delay, as a chain of lags)
   int32_t fan_loss_pct_q8;   // F: extra loss at full part fan, % of the no-fan loss, × 256
 };
 
@@ -54,6 +54,60 @@ class Feedforward {
  private:
   fixed::Multiplier per_rise_q8_{0, 0};  // duty_q16 per temp_q8 of rise: 65535 / A_q8
   uint32_t fan_per_unit_q24_ = 0;        // F/100/255 per fan unit, Q24 (≤ 328,965)
+};
+
+// Model-following reference for PID + feedforward (2-degree-of-freedom): the heat-up the M307
+// model promises, so that P and I act only on the deviation from it. Time-optimal for the model:
+// full power (or off) until the model's undelayed state x reaches the target, then the steady
+// duty, which holds x there; the reference is x delayed by the dead time D.
+//   x += α·(25 °C + A·u − x),  α = 2h/(C + 2h)   u = 1 (heating) or 0 (cooling) until x crosses
+//                                                the target (backward Euler, every other period)
+//   reference(t) = x(t − D)                      delay line: kTaps taps ≈ D/(kTaps − 1) apart,
+//                                                linear interpolation between two taps; D
+//                                                realised to a control period
+// x in "q16" (°C × 65536), taps and reference temp_q8. α is mantissa_q16 / 2^16, or / 2^24 when
+// α < 1/256, so that C = 600 s keeps 12 significant bits. The x update and the reference
+// update alternate (one multiply-add pair per period: ~150 AVR cycles).
+class ModelReference {
+ public:
+  static constexpr uint8_t kTaps = 16;  // a power of two (ring index by mask); 64 B of RAM
+  struct Output {
+    int32_t reference_q8;  // where the model says the hotend is now (°C × 256)
+    uint16_t duty_q16;     // the feedforward duty for the next period
+  };
+
+  constexpr ModelReference() = default;
+
+  // Precondition: hotend_model_valid(model), 10 ≤ period_ms ≤ 2000. Set-up code (long divisions).
+  void configure(const HotendModel& model, uint16_t period_ms);
+  // The model's output starts at rest at the measured temperature; its undelayed state x at
+  // x_q8: the measurement for a heat-up from here, the target for a bumpless take-over (the
+  // model then holds the steady duty instead of starting a full-power heat-up).
+  void start(int32_t measured_q8, int32_t x_q8);
+  // One control period: steady_q16 is Feedforward::duty_q16 for the target and fan.
+  Output step(int32_t target_q8, uint16_t steady_q16);
+
+ private:
+  struct Rate {
+    uint16_t mantissa_q16;
+    bool shift8;  // α = mantissa_q16 / 2^24 instead of / 2^16
+  };
+  static Rate rate(int32_t time_constant_q8, uint16_t period_ms);
+  int32_t scaled(int32_t difference_q16) const;  // α·difference
+
+  Rate plant_{0, false};
+  int32_t full_q16_ = 0;              // 25 °C + A: where 100 % duty drives x
+  uint16_t spacing_ = 0;              // periods between taps, even (0: no dead time)
+  uint8_t offset_taps_ = 0;           // (kTaps − 1)·spacing_ − D = offset_taps_·spacing_ + offset_
+  uint16_t offset_ = 0;               // periods, 0..spacing_ − 1
+  uint16_t frac_per_period_q16_ = 0;  // 1/spacing_, Q16
+  int32_t x_q16_ = 0;
+  int32_t tap_q8_[kTaps] = {};
+  int32_t reference_q8_ = 0;
+  uint16_t duty_q16_ = 0;             // the model's duty decided at the last x update
+  uint16_t count_ = 0;                // periods since the newest tap
+  uint8_t newest_ = 0;
+  bool odd_ = false;
 };
 
 }  // namespace control

@@ -25,7 +25,8 @@ void ControllerBank::init(const Settings& settings) {
   settings_ = settings;
   configure_pid_family(settings);
   feedforward_.configure(settings.model);
-  active()->reset();
+  reference_.configure(settings.model, kControlPeriodMs);
+  reset();
 }
 
 const gcode::FlashText* ControllerBank::refusal(const Settings& next, bool sf_available) const {
@@ -43,7 +44,10 @@ const gcode::FlashText* ControllerBank::refusal(const Settings& next, bool sf_av
 
 void ControllerBank::commit(const Settings& next, const HandOver& now) {
   if (pid_family_changed(settings_, next)) configure_pid_family(next);
-  if (!same_model(settings_.model, next.model)) feedforward_.configure(next.model);
+  if (!same_model(settings_.model, next.model)) {
+    feedforward_.configure(next.model);
+    reference_.configure(next.model, kControlPeriodMs);
+  }
   settings_ = next;
   prepare_feedforward(ff_target_q8_, ff_fan_);  // model or F may have changed
   take_over(now);
@@ -91,11 +95,15 @@ void ControllerBank::take_over(const HandOver& now) {
 
 void ControllerBank::reset() {
   ff_applied_ = false;  // the PID family's reset keeps its feedforward; refresh it at the next step
+  reference_started_ = false;  // the model heats up from the next reading
+  reference_holds_ = false;
   active()->reset();
 }
 
 void ControllerBank::init_bumpless(int32_t measured_q8, uint16_t duty_q16) {
   ff_applied_ = false;  // (another controller may be active now)
+  reference_started_ = false;
+  reference_holds_ = true;  // no full-power heat-up at a take-over: the duty continues
   active()->init_bumpless(measured_q8, duty_q16);
 }
 
@@ -127,6 +135,7 @@ __attribute__((noinline)) uint16_t ControllerBank::step_pid_family(const control
   const ControllerId id = active_id();
   // The PID family's model feedforward (0 with M310 F0), handed over only when it changed.
   if (in.target_q8 != ff_target_q8_ || in.fan_duty != ff_fan_) prepare_feedforward(in.target_q8, in.fan_duty);
+  if (settings_.feedforward != 0 && id == ControllerId::kPid) return step_model_following(in);
   const bool update = !ff_applied_;
   ff_applied_ = true;
   switch (id) {
@@ -140,6 +149,27 @@ __attribute__((noinline)) uint16_t ControllerBank::step_pid_family(const control
       if (update) pid_.set_feedforward(ff_q16_);
       return pid_.step(in);
   }
+}
+
+// PID with F1: model following (control/feedforward.h, ModelReference). The feedforward is the
+// model's time-optimal heat-up, and P and I see reference − measured, so they correct only what
+// the model did not predict (docs/controllers.md, feedforward). Fuzzy-PID and Marlin keep the
+// plain steady feedforward: fuzzy-PID's step is ~2,800 cycles, and the model's ~+700 (measured
+// in the simulator, with the tick interrupts) would break the 3,000-cycle budget.
+__attribute__((noinline)) uint16_t ControllerBank::step_model_following(const control::StepInput& in) {
+  if (!reference_started_) reference_.start(in.measured_q8, reference_holds_ ? in.target_q8 : in.measured_q8);
+  reference_started_ = true;
+  const control::ModelReference::Output r = reference_.step(in.target_q8, ff_q16_);
+  const bool update = !ff_applied_ || r.duty_q16 != model_ff_q16_;
+  ff_applied_ = true;
+  model_ff_q16_ = r.duty_q16;
+  // While the model's heat-up runs and the hotend is below the target, P and I rest (their
+  // input is the measurement itself): the model's dead time and shape differ from the plant's
+  // during the transient, and integrating that difference is what overshot.
+  const int32_t pid_target_q8 =
+      r.reference_q8 != in.target_q8 && in.measured_q8 < in.target_q8 ? in.measured_q8 : r.reference_q8;
+  if (update) pid_.set_feedforward(r.duty_q16);
+  return pid_.step(pid_target_q8, in.measured_q8);
 }
 
 }  // namespace firmware

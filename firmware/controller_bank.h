@@ -62,6 +62,7 @@ class ControllerBank final : public control::Controller {
  private:
   control::Controller* active();
   uint16_t step_pid_family(const control::StepInput& in);
+  uint16_t step_model_following(const control::StepInput& in);
   // nullptr if `next` can be applied with (sf_available) or without state-feedback constants.
   const gcode::FlashText* refusal(const Settings& next, bool sf_available) const;
   void commit(const Settings& next, const HandOver& now);
@@ -73,12 +74,16 @@ class ControllerBank final : public control::Controller {
   control::MarlinPid marlin_;
   control::StateFeedback sf_;
   control::Feedforward feedforward_;
+  control::ModelReference reference_;  // PID with F1: the model's heat-up
   Settings settings_{};
   bool sf_loaded_ = false;
   int32_t ff_target_q8_ = -1;  // input of the prepared feedforward (-1: none yet)
   uint8_t ff_fan_ = 0;
   uint16_t ff_q16_ = 0;        // prepared feedforward duty (0 when M310 F0)
-  bool ff_applied_ = false;    // the active controller holds ff_q16_
+  bool ff_applied_ = false;    // the active controller holds its feedforward (PID with F1: model_ff_q16_)
+  uint16_t model_ff_q16_ = 0;  // the model's duty the PID holds with F1
+  bool reference_started_ = false;
+  bool reference_holds_ = false;  // started by a take-over: the model holds the target
 };
 
 }  // namespace firmware

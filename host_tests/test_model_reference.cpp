@@ -1,0 +1,117 @@
+// The model-following reference of PID + feedforward (control/feedforward.h, ModelReference):
+// against the double-precision time-optimal heat-up of the M307 FOPDT model and its dead time.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "control/feedforward.h"
+#include "host_tests/hotend40w_model.h"
+
+namespace {
+
+using control::HotendModel;
+using control::ModelReference;
+using test_plant::to_q8;
+
+constexpr uint16_t kPeriodMs = 128;
+constexpr double kH = kPeriodMs / 1000.0;
+
+// Exact FOPDT response to full power from `from` until the undelayed state reaches `target`,
+// then held there: the reference at time t is that state at t − D.
+double exact_reference(double t, double from, double target, double a, double c, double d) {
+  const double full = 25.0 + a;
+  const double t_on = c * std::log((full - from) / (full - target));
+  const double s = t - d;
+  if (s <= 0) return from;
+  if (s >= t_on) return target;
+  return full - (full - from) * std::exp(-s / c);
+}
+
+struct Case {
+  double a, c, d;
+};
+
+TEST(ModelReference, FollowsTheTimeOptimalFopdtHeatUpThroughTheDeadTime) {
+  // seed002 (D ≈ C), hotend40w (D ≪ C), seed000-4's fit (long C and D).
+  for (const Case k : {Case{450, 24, 20.7}, Case{588.2, 245.6, 4.6}, Case{450, 582.4, 163.4}}) {
+    const double target = 210.0, from = 25.0;
+    const HotendModel m{to_q8(k.a), to_q8(k.c), to_q8(k.d), 0};
+    ModelReference r;
+    r.configure(m, kPeriodMs);
+    r.start(to_q8(from), to_q8(from));
+    const double t_on = k.c * std::log((25.0 + k.a - from) / (25.0 + k.a - target));
+    const int32_t steady_q16 = 30000;
+    double worst = 0;
+    const int steps = static_cast<int>((t_on + k.d + 4 * k.c) / kH);
+    for (int i = 0; i < steps; ++i) {
+      const double t = i * kH;  // the model's state at the start of this period
+      const ModelReference::Output o = r.step(to_q8(target), steady_q16);
+      // Full power until the model reaches the target (± the two periods of one x update), then
+      // the steady duty.
+      if (t < t_on - 3 * kH) {
+        EXPECT_EQ(o.duty_q16, 65535) << "t " << t;
+      } else if (t > t_on + 3 * kH) {
+        EXPECT_EQ(o.duty_q16, steady_q16) << "t " << t;
+      }
+      const double ref = o.reference_q8 / 256.0;
+      EXPECT_LE(ref, target + 1.0 / 256) << "never beyond the target";
+      // Timing to ±3 periods (x and the reference update every other period): the reference
+      // lies between the exact heat-up 3 periods before and 3 after (it is monotonic).
+      const double lo = exact_reference(t - 3 * kH, from, target, k.a, k.c, k.d);
+      const double hi = exact_reference(t + 3 * kH, from, target, k.a, k.c, k.d);
+      worst = std::max({worst, lo - ref, ref - hi});
+    }
+    // Backward Euler over 2h: 0.5 °C; linear interpolation between taps D/15 apart rounds the
+    // corner where the heat-up stops, by up to slope × spacing / 4 (seed002: 11 °C/s × 1.4 s).
+    const double corner_slope = (25.0 + k.a - target) / k.c;
+    EXPECT_LT(worst, 0.5 + corner_slope * (k.d / 15.0) / 4.0) << "A " << k.a << " C " << k.c << " D " << k.d;
+  }
+}
+
+TEST(ModelReference, SettlesExactlyOnTheTargetAndCoolsWithTheHeaterOff) {
+  const HotendModel m{to_q8(450), to_q8(24), to_q8(20.7), 0};
+  ModelReference r;
+  r.configure(m, kPeriodMs);
+  r.start(to_q8(210), to_q8(210));
+  ModelReference::Output o{};
+  bool off_at_first = true;
+  for (int i = 0; i < 2000; ++i) {  // 256 s: cooling 210 → 150 takes C·ln(185/125) ≈ 9.4 s + D
+    o = r.step(to_q8(150), 12345);
+    if (i < 50) off_at_first = off_at_first && o.duty_q16 == 0;
+  }
+  EXPECT_TRUE(off_at_first);
+  EXPECT_EQ(o.reference_q8, to_q8(150));
+  EXPECT_EQ(o.duty_q16, 12345);
+  // The steady duty follows the caller (fan feedforward) at once once the model holds.
+  EXPECT_EQ(r.step(to_q8(150), 23456).duty_q16, 23456);
+}
+
+TEST(ModelReference, WithoutDeadTimeTheReferenceIsTheModelState) {
+  const HotendModel m{to_q8(450), to_q8(24), 0, 0};
+  ModelReference r;
+  r.configure(m, kPeriodMs);
+  r.start(to_q8(25), to_q8(25));
+  // 2 s in: x = 25 + 450·(1 − e^(−2/24)) ≈ 61 °C; the reference trails it by at most one update.
+  ModelReference::Output o{};
+  for (int i = 0; i < 16; ++i) o = r.step(to_q8(210), 30000);
+  const double expected = 25.0 + 450.0 * (1.0 - std::exp(-16 * kH / 24.0));
+  EXPECT_NEAR(o.reference_q8 / 256.0, expected, 1.0);
+}
+
+TEST(ModelReference, ATakeOverHoldsTheSteadyDutyAndMovesTheReferenceOverTheDeadTime) {
+  const HotendModel m{to_q8(450), to_q8(24), to_q8(20.7), 0};
+  ModelReference r;
+  r.configure(m, kPeriodMs);
+  r.start(to_q8(205), to_q8(210));  // bumpless: hot, 5 °C below the target
+  int32_t previous_q8 = to_q8(205);
+  for (int i = 0; i < 400; ++i) {  // 51 s > D
+    const ModelReference::Output o = r.step(to_q8(210), 30000);
+    EXPECT_EQ(o.duty_q16, 30000) << "no full-power kick at step " << i;
+    EXPECT_GE(o.reference_q8, previous_q8);
+    previous_q8 = o.reference_q8;
+  }
+  EXPECT_EQ(previous_q8, to_q8(210));
+}
+
+}  // namespace

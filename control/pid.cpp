@@ -118,10 +118,14 @@ uint16_t Pid::step(int32_t target_q8, int32_t measured_q8) {
     previous_q8_ = measured_q8;
     have_previous_ = true;
   }
-  const int32_t change_q8 =
-      fixed::clamp(measured_q8 - previous_q8_, -d_change_limit_q8_, d_change_limit_q8_);
+  if (c_.kd.whole != 0 || c_.kd.frac_q16 != 0) {
+    const int32_t change_q8 =
+        fixed::clamp(measured_q8 - previous_q8_, -d_change_limit_q8_, d_change_limit_q8_);
+    derivative_q24_ += fixed::mul_q16(-fixed::mul_round(change_q8, c_.kd) - derivative_q24_, alpha_q16_);
+  } else {
+    derivative_q24_ = 0;  // PI (Kd 0, e.g. SIMC on a dead-time plant): skip two multiplies
+  }
   previous_q8_ = measured_q8;
-  derivative_q24_ += fixed::mul_q16(-fixed::mul_round(change_q8, c_.kd) - derivative_q24_, alpha_q16_);
 
   const int32_t pd_q24 = p_q24 + derivative_q24_;
   if (bumpless_pending_) {

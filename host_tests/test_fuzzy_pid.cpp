@@ -4,7 +4,7 @@
 #include "control/fuzzy_pid.h"
 #include "control/fuzzy_reference.h"
 #include "control/fuzzy_surface_gen.h"
-#include "host_tests/hotend40w_model.h"
+#include "host_tests/closed_loop.h"
 
 #include <gtest/gtest.h>
 
@@ -69,24 +69,13 @@ class ReferenceFuzzyPid {
   bool have_previous_ = false;
 };
 
-struct Trajectory {
-  std::vector<double> temp_c, duty;
-  double max_c = -1e9;
-};
+using test_plant::Trajectory;
 
 // Closed loop for `seconds`; `fan_at_s` switches the part fan to 100 % (more loss) at that time.
 template <class Control> Trajectory run(Control control, double seconds, double fan_at_s = 1e9) {
-  TwoNodeHotend plant;
-  Trajectory t;
-  for (int k = 0; k < int(seconds / kPeriodS); ++k) {
+  return test_plant::run_closed_loop(TwoNodeHotend{}, control, seconds, [fan_at_s](int k, TwoNodeHotend& plant) {
     if (k * kPeriodS >= fan_at_s) plant.set_fan(1.0);
-    const double duty = control(plant.sensor_c());
-    plant.advance(duty, kPeriodS);
-    t.temp_c.push_back(plant.sensor_c());
-    t.duty.push_back(duty);
-    t.max_c = std::max(t.max_c, plant.sensor_c());
-  }
-  return t;
+  });
 }
 
 Trajectory run_fixed(const FuzzyPidConfig& config, double target_c, double seconds, double fan_at_s = 1e9) {

@@ -10,7 +10,7 @@
 
 #include "control/fixed.h"
 #include "control/pid.h"
-#include "host_tests/hotend40w_model.h"
+#include "host_tests/closed_loop.h"
 
 namespace {
 
@@ -80,29 +80,11 @@ class Fopdt {
   std::deque<double> history_;
 };
 
-struct Trajectory {
-  std::vector<double> temp_c;  // sensor temperature after each period
-  std::vector<double> duty;    // duty applied during each period (0..1)
-  double max_c = -1e9;
-};
+using test_plant::Trajectory;
 
 control::PidGains q16_gains(double kp, double ki, double kd) {
   return {int32_t(std::lround(kp * 65536)), int32_t(std::lround(ki * 65536)),
           int32_t(std::lround(kd * 65536))};
-}
-
-// Closed loop: `controller(measured_c)` returns a duty 0..1 for the next period.
-template <class Plant, class Controller>
-Trajectory run(Plant plant, Controller controller, double seconds) {
-  Trajectory t;
-  for (int k = 0; k < int(seconds / kPeriodS); ++k) {
-    const double duty = controller(plant.sensor_c());
-    plant.advance(duty, kPeriodS);
-    t.temp_c.push_back(plant.sensor_c());
-    t.duty.push_back(duty);
-    t.max_c = std::max(t.max_c, plant.sensor_c());
-  }
-  return t;
 }
 
 template <class Plant>
@@ -112,7 +94,7 @@ Trajectory run_fixed(Plant plant, double kp, double ki, double kd, double target
   EXPECT_TRUE(control::Pid::valid(g, kPeriodMs));
   pid.configure(g, kPeriodMs);
   const int32_t target_q8 = int32_t(std::lround(target_c * 256));
-  return run(
+  return test_plant::run_closed_loop(
       plant,
       [&](double measured_c) {
         return pid.step(target_q8, int32_t(std::lround(measured_c * 256))) / 65535.0;
@@ -126,7 +108,7 @@ template <class Plant>
 Trajectory run_reference(Plant plant, double kp, double ki, double kd, double target_c, double seconds,
                          bool anti_windup = true, bool quantized = false) {
   ReferencePid pid(kp, ki, kd, kPeriodS, control::Pid::kDefaultDerivativeFilterMs / 1000.0, anti_windup);
-  return run(
+  return test_plant::run_closed_loop(
       plant,
       [&](double measured_c) {
         return pid.step(target_c, quantized ? std::round(measured_c * 256) / 256 : measured_c);
@@ -204,10 +186,10 @@ TEST(PidClosedLoop, FeedforwardJoinsWithoutBreakingAgreementOrWindup) {
   ReferencePid ref(kHotendKp, kHotendKi, kHotendKd, kPeriodS,
                    control::Pid::kDefaultDerivativeFilterMs / 1000.0);
   ref.set_feedforward(std::lround(ff * 65535) / 65535.0);
-  const Trajectory a = run(
+  const Trajectory a = test_plant::run_closed_loop(
       TwoNodeHotend{}, [&](double m) { return pid.step(210 * 256, int32_t(std::lround(m * 256))) / 65535.0; },
       600.0);
-  const Trajectory b = run(
+  const Trajectory b = test_plant::run_closed_loop(
       TwoNodeHotend{}, [&](double m) { return ref.step(210.0, m); }, 600.0);
   const Deviation d = deviation(a, b);
   EXPECT_LT(d.temp_c, 0.05);

@@ -1,6 +1,6 @@
 // State feedback + static-gain feedforward with an observer and a dead-time predictor (seed 000,
 // made practical), in fixed point. The constants come from the host design (`hotend-design`,
-// control/state_feedback_quantize.h); their Q formats are documented in
+// design/state_feedback_quantize.h); their Q formats are documented in
 // control/state_feedback_constants.h and docs/state_feedback.md. Portable, float-free.
 //
 // Each law period (decimation × 128 ms, spread over the period's step() calls):

@@ -1,5 +1,5 @@
 // The fixed-point constants of the state-feedback controller: produced by the host design
-// (control/state_feedback_quantize.h, `hotend-design`), consumed by control/state_feedback.cpp.
+// (design/state_feedback_quantize.h, `hotend-design`), consumed by control/state_feedback.cpp.
 // Portable (AVR and host), no floating point.
 //
 // Signals inside the controller are int32 "Q16 of their unit":

@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <utility>
 
-#include "control/state_feedback_presets.h"
+#include "design/state_feedback_presets.h"
 #include "host_tests/controller_rig.h"
 
 namespace {

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "control/state_feedback_gcode.h"
-#include "control/state_feedback_presets.h"
+#include "design/state_feedback_presets.h"
 #include "host_tests/controller_rig.h"
 
 namespace {

@@ -5,14 +5,14 @@
 #include <cmath>
 #include <initializer_list>
 
-#include "control/design_expm.h"
-#include "control/design_poles.h"
-#include "control/design_realization.h"
-#include "control/lti_seed_models.h"
+#include "design/expm.h"
+#include "design/poles.h"
+#include "design/realization.h"
+#include "design/seed_models.h"
 
 namespace {
 
-using namespace control::design;
+using namespace design;
 
 TEST(DesignMath, ExpmOfRotationIsCosSin) {
   Mat a = zeros(2, 2);

@@ -5,12 +5,12 @@
 
 #include <cmath>
 
-#include "control/lti_seed_models.h"
-#include "control/state_feedback_design.h"
+#include "design/seed_models.h"
+#include "design/state_feedback_design.h"
 
 namespace {
 
-using namespace control::design;
+using namespace design;
 using control::kSfMaxDelay;
 
 struct Named {
@@ -32,7 +32,7 @@ void expect_same_poly(const Poly& got, const Poly& want, const char* what) {
 TEST(DesignStateFeedback, PolePlacementPlacesThePoles) {
   for (const Named& p : kPlants) {
     SCOPED_TRACE(p.name);
-    const Design d = design(p.model);
+    const Design d = design_state_feedback(p.model);
     ASSERT_EQ(d.error, nullptr);
     const Mat closed = d.phi_aug - d.gamma_aug * d.l_aug;
     expect_same_poly(char_poly(closed), poly_from_roots(d.ctrl_poles_z, d.n_aug), "controller");
@@ -47,7 +47,7 @@ TEST(DesignStateFeedback, ExplicitPolesArePlacedToo) {
   o.n_ctrl_poles = 2;
   o.ctrl_poles_s[0] = {-0.05, 0.02};  // a complex pair on the two-node hotend
   o.ctrl_poles_s[1] = {-0.05, -0.02};
-  const Design d = design(two_node(), o);
+  const Design d = design_state_feedback(two_node(), o);
   ASSERT_EQ(d.error, nullptr);
   const Poly got = char_poly(d.phi_aug - d.gamma_aug * d.l_aug);
   const Cplx z[2] = {z_of_s(o.ctrl_poles_s[0], d.ts_s), z_of_s(o.ctrl_poles_s[1], d.ts_s)};
@@ -57,7 +57,7 @@ TEST(DesignStateFeedback, ExplicitPolesArePlacedToo) {
 TEST(DesignStateFeedback, FeedforwardGivesUnitStaticGain) {
   for (const Named& p : kPlants) {
     SCOPED_TRACE(p.name);
-    const Design d = design(p.model);
+    const Design d = design_state_feedback(p.model);
     Mat c_aug = zeros(1, d.n_aug), w;
     place(&c_aug, d.real.model.c, 0, 0);
     ASSERT_TRUE(solve(identity(d.n_aug) - d.phi_aug + d.gamma_aug * d.l_aug, d.gamma_aug, &w));
@@ -70,7 +70,7 @@ TEST(DesignStateFeedback, FeedforwardGivesUnitStaticGain) {
 TEST(DesignStateFeedback, PredictorMakesTheDelayedLoopTheDelayFreeOneDelayed) {
   for (const Named& p : kPlants) {
     SCOPED_TRACE(p.name);
-    const Design d = design(p.model);
+    const Design d = design_state_feedback(p.model);
     const int n = d.real.model.n, dd = d.zoh.delay;
     const int horizon = d.zoh.frac_s > 0 ? dd - 1 : dd;
     const double r = 1.0;  // small step: no saturation in this linear check
@@ -108,7 +108,7 @@ TEST(DesignStateFeedback, PredictorMakesTheDelayedLoopTheDelayFreeOneDelayed) {
 TEST(DesignStateFeedback, ObserverConvergesFromAWrongState) {
   for (const Named& p : kPlants) {
     SCOPED_TRACE(p.name);
-    const Design d = design(p.model);
+    const Design d = design_state_feedback(p.model);
     const int n = d.real.model.n;
     Mat err = zeros(n + 1, 1);
     for (int i = 0; i < n; ++i) err(i, 0) = 50.0 * d.ss_share(i, 0);
@@ -132,7 +132,7 @@ TEST(DesignStateFeedback, PoleRuleLimitsOvershootUnderSaturation) {
   for (const Named& p : kPlants) {
     SCOPED_TRACE(p.name);
     const DesignOptions o;
-    const Design d = design(p.model, o);
+    const Design d = design_state_feedback(p.model, o);
     ASSERT_GT(d.t_rise_s, 0.0);
     EXPECT_GE(d.t_cl_s, o.min_periods * d.ts_s - 1e-12);
     EXPECT_LE(d.t_cl_s, d.t_rise_s / 1.0);
@@ -144,7 +144,7 @@ TEST(DesignStateFeedback, PoleRuleLimitsOvershootUnderSaturation) {
   // Without the search, seed 003's two slow lags brake too late and overshoot: the search matters.
   DesignOptions fixed;
   fixed.search_speed = false;
-  const Design fast = design(seed003(), fixed);
+  const Design fast = design_state_feedback(seed003(), fixed);
   EXPECT_GT(worst_step_overshoot(fast, fixed.step_k), 1.0);
 }
 
@@ -159,12 +159,12 @@ TEST(DesignStateFeedback, FindsTheRightHalfPlaneZeros) {
 }
 
 TEST(DesignStateFeedback, DeadTimeFitsTheHistoryByDecimation) {
-  const Design d = design(seed002());  // τ = 20.7 s
+  const Design d = design_state_feedback(seed002());  // τ = 20.7 s
   EXPECT_LE(d.zoh.delay, kSfMaxDelay);
   EXPECT_GE(d.decimation,
             control::state_feedback_min_decimation(static_cast<uint8_t>(d.zoh.delay)));
   EXPECT_NEAR(d.zoh.delay * d.ts_s - d.zoh.frac_s, 20.7, 1e-9);
-  EXPECT_EQ(design(two_node()).zoh.delay, 0);
+  EXPECT_EQ(design_state_feedback(two_node()).zoh.delay, 0);
 }
 
 }  // namespace

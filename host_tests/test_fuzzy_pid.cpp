@@ -2,7 +2,7 @@
 // two-node hotend (issue 2's hotend40w) against a double-precision fuzzy-PID using the direct
 // Mamdani evaluation.
 #include "control/fuzzy_pid.h"
-#include "control/fuzzy_reference.h"
+#include "design/fuzzy_reference.h"
 #include "control/fuzzy_surface_gen.h"
 #include "host_tests/closed_loop.h"
 

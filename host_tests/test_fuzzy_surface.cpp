@@ -1,6 +1,6 @@
 // The fixed-point fuzzy surfaces (compile-time grid + bilinear interpolation) against the
 // direct double-precision Mamdani evaluation of the same rule tables.
-#include "control/fuzzy_reference.h"
+#include "design/fuzzy_reference.h"
 #include "control/fuzzy_surface.h"
 #include "control/fuzzy_surface_gen.h"
 

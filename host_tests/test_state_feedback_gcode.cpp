@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "control/state_feedback_format.h"
+#include "design/state_feedback_format.h"
 #include "control/state_feedback_gcode.h"
-#include "control/state_feedback_presets.h"
+#include "design/state_feedback_presets.h"
 
 namespace {
 
@@ -31,7 +31,7 @@ StateFeedbackConstants distinct_fields() {
 TEST(StateFeedbackGcode, FieldIndicesFollowTheDesignToolsListing) {
   const StateFeedbackConstants k = distinct_fields();
   int count = 0;
-  control::design::for_each_field(k, [&](int index, const char* name, long value) {
+  design::for_each_field(k, [&](int index, const char* name, long value) {
     EXPECT_EQ(control::sf_get(k, static_cast<uint8_t>(index)), value) << index << " " << name;
     ++count;
   });

@@ -6,15 +6,15 @@
 #include <cmath>
 #include <initializer_list>
 
-#include "control/lti_seed_models.h"
-#include "control/lti_simulate.h"
+#include "design/seed_models.h"
+#include "design/plant_sim.h"
 #include "control/state_feedback.h"
-#include "control/state_feedback_quantize.h"
-#include "control/state_feedback_reference.h"
+#include "design/state_feedback_quantize.h"
+#include "design/state_feedback_reference.h"
 
 namespace sf_test {
 
-using namespace control::design;
+using namespace design;
 using control::kSfMaxDelay;
 
 struct Plant {
@@ -103,7 +103,7 @@ inline double physical_bound_s(const LtiModel& m, double target_c) {
 
 class Loop {
  public:
-  Loop(const Plant& p, const Scenario& s) : p_(p), s_(s), design_(design(p.model)) {
+  Loop(const Plant& p, const Scenario& s) : p_(p), s_(s), design_(design_state_feedback(p.model)) {
     error_ = quantize(design_, s.use_fan_feedforward ? p.model.fan_loss_per_k : 0.0, &k_);
   }
   const char* error() const { return error_; }

@@ -1,17 +1,17 @@
-// The compiled-in presets (control/state_feedback_presets.h) are what the design tool produces
+// The compiled-in presets (design/state_feedback_presets.h) are what the design tool produces
 // today for each plant of the bank: they must not go stale when the design or the plant changes.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 
-#include "control/lti_seed_models.h"
-#include "control/state_feedback_format.h"
-#include "control/state_feedback_presets.h"
-#include "control/state_feedback_quantize.h"
+#include "design/seed_models.h"
+#include "design/state_feedback_format.h"
+#include "design/state_feedback_presets.h"
+#include "design/state_feedback_quantize.h"
 
 namespace {
 
-using namespace control::design;
+using namespace design;
 
 struct Preset {
   const char* name;
@@ -29,7 +29,7 @@ TEST(StateFeedbackPresets, MatchAFreshDesign) {
   for (const Preset& p : presets) {
     SCOPED_TRACE(p.name);
     control::StateFeedbackConstants fresh;
-    ASSERT_EQ(quantize(design(p.model), p.model.fan_loss_per_k, &fresh), nullptr);
+    ASSERT_EQ(quantize(design_state_feedback(p.model), p.model.fan_loss_per_k, &fresh), nullptr);
     long want[256], got[256];
     int count = 0;
     for_each_field(fresh, [&](int i, const char*, long v) {

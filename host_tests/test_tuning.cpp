@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include "control/tuning.h"
+#include "design/tuning.h"
 
 namespace {
 

@@ -1,12 +1,12 @@
 // PID gains from the plant model for runs that are not given --gains: the plant's
 // first-order-plus-dead-time approximation (the two-point fit of its simulated full-power step
-// response, as an autotune would see it) through a rule from control/tuning.h.
+// response, as an autotune would see it) through a rule from design/tuning.h.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "control/tuning.h"
+#include "design/tuning.h"
 #include "sim/plants.h"
 #include "sim/sim_run.h"
 

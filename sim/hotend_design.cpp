@@ -11,16 +11,16 @@
 #include <string>
 #include <vector>
 
-#include "control/lti_seed_models.h"
-#include "control/lti_simulate.h"
+#include "design/seed_models.h"
+#include "design/plant_sim.h"
 #include "control/state_feedback.h"
-#include "control/state_feedback_format.h"
+#include "design/state_feedback_format.h"
 #include "control/state_feedback_gcode.h"
-#include "control/state_feedback_quantize.h"
+#include "design/state_feedback_quantize.h"
 
 namespace {
 
-using namespace control::design;
+using namespace design;
 
 const char kUsage[] =
     "usage: hotend-design MODEL [options]\n"
@@ -46,7 +46,7 @@ const char kUsage[] =
     "  --name IDENT               name of the emitted C++ constant (default kStateFeedback)\n"
     "  --target C                 closed-loop check target (default 210)\n"
     "  --initializer-only         print only the C++ initializer "
-    "(control/state_feedback_presets.h)\n";
+    "(design/state_feedback_presets.h)\n";
 
 bool parse_list(const char* text, std::vector<double>* out) {
   out->clear();
@@ -253,7 +253,7 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  const Design d = design(model, o);
+  const Design d = design_state_feedback(model, o);
   if (d.error) {
     std::fprintf(stderr, "hotend-design: %s\n", d.error);
     return 1;

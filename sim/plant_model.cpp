@@ -3,9 +3,9 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "control/state_feedback_design.h"
+#include "design/state_feedback_design.h"
 #include "control/state_feedback_gcode.h"
-#include "control/state_feedback_quantize.h"
+#include "design/state_feedback_quantize.h"
 #include "sim/default_gains.h"
 #include "sim/gcode_format.h"
 
@@ -44,15 +44,15 @@ std::string m307_command(const HotendModelSetting& model) {
          " D" + format_decimal(model.dead_time_s, 3) + " F" + format_decimal(model.fan_loss_pct, 3);
 }
 
-control::design::LtiModel design_model_for(const PlantSpec& plant) {
+design::LtiModel design_model_for(const PlantSpec& plant) {
   const LtiModel& m = plant.model;
   const int n = static_cast<int>(m.order());
-  if (n > control::design::kMaxModelStates) throw std::runtime_error(plant.name + ": too many states to design for");
-  control::design::LtiModel d;
+  if (n > design::kMaxModelStates) throw std::runtime_error(plant.name + ": too many states to design for");
+  design::LtiModel d;
   d.n = n;
-  d.a = control::design::zeros(n, n);
-  d.b = control::design::zeros(n, 1);
-  d.c = control::design::zeros(1, n);
+  d.a = design::zeros(n, n);
+  d.b = design::zeros(n, 1);
+  d.c = design::zeros(1, n);
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) d.a(i, j) = m.a(i, j);
     d.b(i, 0) = m.b(i, 0);
@@ -68,11 +68,11 @@ control::design::LtiModel design_model_for(const PlantSpec& plant) {
 }
 
 StateFeedbackSetting state_feedback_for(const PlantSpec& plant) {
-  const control::design::LtiModel model = design_model_for(plant);
-  const control::design::Design d = control::design::design(model);
+  const design::LtiModel model = design_model_for(plant);
+  const design::Design d = design::design_state_feedback(model);
   if (d.error) throw std::runtime_error(plant.name + ": state-feedback design failed: " + d.error);
   StateFeedbackSetting s;
-  if (const char* err = control::design::quantize(d, model.fan_loss_per_k, &s.constants))
+  if (const char* err = design::quantize(d, model.fan_loss_per_k, &s.constants))
     throw std::runtime_error(plant.name + ": state-feedback constants: " + err);
   char text[160];
   std::snprintf(text, sizeof text, "law every %d × 128 ms, dead time %d periods, closed-loop T %.1f s",

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "control/lti_model.h"
+#include "design/lti_model.h"
 #include "control/state_feedback_constants.h"
 #include "sim/plants.h"
 
@@ -32,13 +32,13 @@ std::string m307_command(const HotendModelSetting& model);
 // The plant's LTI model in control/'s design form: same matrices, the dead time, and the fan's
 // extra loss as heater-duty equivalent per kelvin of rise (1/K_fan-full − 1/K_fan-off, exact
 // at steady state).
-control::design::LtiModel design_model_for(const PlantSpec& plant);
+design::LtiModel design_model_for(const PlantSpec& plant);
 
 struct StateFeedbackSetting {
   control::StateFeedbackConstants constants;
   std::string description;  // law period, dead-time periods, closed-loop time constant
 };
-// control::design::design() with its default pole rule (docs/state_feedback.md) and
+// design::design_state_feedback() with its default pole rule (docs/state_feedback.md) and
 // quantize(); throws std::runtime_error if the design or the quantisation fails.
 StateFeedbackSetting state_feedback_for(const PlantSpec& plant);
 

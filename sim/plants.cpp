@@ -1,6 +1,6 @@
 #include "sim/plants.h"
 
-#include "control/lti_seed_models.h"
+#include "design/seed_models.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -61,9 +61,9 @@ LtiModel rescaled_state_space(Matrix a, Matrix b, Matrix c) {
   return m;
 }
 
-// The seed's identified matrices, taken from control/lti_seed_models.h (one copy of the
+// The seed's identified matrices, taken from design/seed_models.h (one copy of the
 // paper's numbers for the design code and the simulator), with the input rescaled as above.
-LtiModel rescaled_state_space(const control::design::LtiModel& seed) {
+LtiModel rescaled_state_space(const design::LtiModel& seed) {
   const std::size_t n = static_cast<std::size_t>(seed.n);
   Matrix a(n, n), b(n, 1), c(1, n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -107,12 +107,12 @@ std::vector<PlantSpec> make_bank() {
   // Seed 000/001 eq. (1): 4 states, identified on a Sanguinololu Prusa Mendel hotend.
   bank.push_back(
       {"seed000-4", "4-state identified model (seed 000 eq. 1, Surmak & Piotrowski)",
-       with_fan_loss(rescaled_state_space(control::design::seed000_4_raw())),
+       with_fan_loss(rescaled_state_space(design::seed000_4_raw())),
        25.0, 150.0, 3600.0});
   // Seed 000/001 eq. (3): 5 states.
   bank.push_back(
       {"seed000-5", "5-state identified model (seed 000 eq. 3, Surmak & Piotrowski)",
-       with_fan_loss(rescaled_state_space(control::design::seed000_5_raw())),
+       with_fan_loss(rescaled_state_space(design::seed000_5_raw())),
        25.0, 150.0, 3600.0});
   return bank;
 }

@@ -24,7 +24,7 @@ struct LtiModel {
   Matrix c;      // 1×n
   double delay_s = 0.0;
   // True when the states are temperatures in cascade (FOPDT, two lags, two-node): the
-  // state-feedback design keeps them; identified matrices go to modal form (control/lti_model.h).
+  // state-feedback design keeps them; identified matrices go to modal form (design/lti_model.h).
   bool physical_states = false;
 
   std::size_t order() const { return a.rows(); }

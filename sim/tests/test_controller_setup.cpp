@@ -5,7 +5,7 @@
 
 #include <cstring>
 
-#include "control/state_feedback_presets.h"
+#include "design/state_feedback_presets.h"
 #include "sim/controller_setup.h"
 #include "sim/plant_model.h"
 
@@ -46,7 +46,7 @@ TEST(PlantModel, DesignModelCarriesTheFanLossAsHeaterDutyPerKelvin) {
   EXPECT_FALSE(design_model_for(plant("seed000-5")).physical_states);
 }
 
-// The control/ presets are designed from control/lti_seed_models.h; the harness designs from
+// The control/ presets are designed from design/seed_models.h; the harness designs from
 // the simulator's own plant matrices. Both must describe the same plants.
 TEST(PlantModel, StateFeedbackFromThePlantMatchesThePresets) {
   const struct {

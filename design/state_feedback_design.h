@@ -7,16 +7,15 @@
 //   u[k] = M·r − Lx·x̂[k] − Σ_{j=1..D} h_j·u[k−j] − g_d·d̂[k]
 // (Lx = L·Φ^D, h_j = L·Φ^(j−1)·Γ, g_d = 1 + Σh_j because the bias is predicted to persist):
 // closed-loop poles = placed poles + D poles at 0, i.e. the delay-free response, delayed.
-// D is kept <= kSfMaxDelay by running the law every N·128 ms (N = decimation).
+// D is kept <= control::kSfMaxDelay by running the law every N·128 ms (N = decimation).
 // Host-side double, header-only; the runtime uses the quantised constants.
 #pragma once
 
-#include "control/design_expm.h"
-#include "control/design_poles.h"
-#include "control/design_realization.h"
+#include "design/expm.h"
+#include "design/poles.h"
+#include "design/realization.h"
 #include "control/state_feedback_constants.h"
 
-namespace control {
 namespace design {
 
 constexpr int kMaxAug = kMaxModelStates + 1;
@@ -50,7 +49,7 @@ struct Design {
   Cplx ctrl_poles_z[kMaxAug];
   // The runtime law.
   Mat lx;                      // 1×n
-  double h[kSfMaxDelay] = {};  // h[j−1] multiplies u[k−j]
+  double h[control::kSfMaxDelay] = {};  // h[j−1] multiplies u[k−j]
   double g_d = 1, m = 0;
   // Current observer on [x; d]:  x̂ += K·(y − C x̄), then x̄⁺ = Φ x̂ + Γa(u[k−D]+d̂) + Γb(u[k−D+1]+d̂).
   Mat phi_obs, c_obs, k_obs;  // (n+1)×(n+1), 1×(n+1), (n+1)×1
@@ -63,6 +62,5 @@ struct Design {
 };
 
 }  // namespace design
-}  // namespace control
 
-#include "control/state_feedback_design_impl.h"
+#include "design/state_feedback_design_impl.h"

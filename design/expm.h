@@ -4,9 +4,8 @@
 // once the scaled norm is <= 0.5 (Moler & Van Loan, "Nineteen dubious ways…", method 3).
 #pragma once
 
-#include "control/design_matrix.h"
+#include "design/matrix.h"
 
-namespace control {
 namespace design {
 
 inline Mat expm(const Mat& a) {
@@ -86,4 +85,3 @@ inline Zoh discretize(const Mat& a, const Mat& b, double ts_s, double delay_s) {
 }
 
 }  // namespace design
-}  // namespace control

@@ -3,7 +3,6 @@
 // Double precision; header-only so the AVR image (which globs control/*.cpp) never links it.
 #pragma once
 
-namespace control {
 namespace design {
 
 constexpr int kMatCap =
@@ -158,4 +157,3 @@ inline Mat power(const Mat& a, int k) {
 }
 
 }  // namespace design
-}  // namespace control

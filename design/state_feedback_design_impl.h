@@ -1,7 +1,6 @@
-// Implementation of design() (see state_feedback_design.h for the structure and notation).
+// Implementation of design_state_feedback() (see state_feedback_design.h for the structure and notation).
 #pragma once
 
-namespace control {
 namespace design {
 
 // Seconds for the delay-free model to rise `step_k` at 100 % duty from rest: the saturation-bound
@@ -93,21 +92,21 @@ inline bool design_model(const LtiModel& model, const DesignOptions& o, Design* 
   const LtiModel& m = d->real.model;
   const int n = m.n;
   // Smallest law period N·128 ms whose dead time D fits the history and whose work fits in the
-  // N calls of a period (state_feedback_min_decimation).
+  // N calls of a period (control::state_feedback_min_decimation).
   int dec = o.decimation > 0 ? o.decimation : 2;
   for (;; ++dec) {
     d->zoh = discretize(m.a, m.b, dec * o.base_period_s, m.delay_s);
-    const bool fits = d->zoh.delay <= kSfMaxDelay &&
-                      dec >= state_feedback_min_decimation(static_cast<uint8_t>(d->zoh.delay));
+    const bool fits = d->zoh.delay <= control::kSfMaxDelay &&
+                      dec >= control::state_feedback_min_decimation(static_cast<uint8_t>(d->zoh.delay));
     if (fits || o.decimation > 0 || dec > 250) break;
   }
   d->decimation = dec;
   d->ts_s = dec * o.base_period_s;
-  if (d->zoh.delay > kSfMaxDelay) {
+  if (d->zoh.delay > control::kSfMaxDelay) {
     d->error = "dead time longer than the input history";
     return false;
   }
-  if (dec < state_feedback_min_decimation(static_cast<uint8_t>(d->zoh.delay))) {
+  if (dec < control::state_feedback_min_decimation(static_cast<uint8_t>(d->zoh.delay))) {
     d->error = "decimation too small for the predictor's work";
     return false;
   }
@@ -203,7 +202,7 @@ inline bool design_gains(Design* d) {
 inline double saturated_step_overshoot(const Design& d, double step_k) {
   const int n = d.real.model.n;
   const int dd = d.zoh.delay;
-  double x[kMatCap] = {}, hist[kSfMaxDelay + 1] = {}, peak = 0;
+  double x[kMatCap] = {}, hist[control::kSfMaxDelay + 1] = {}, peak = 0;
   const double horizon_s = 3 * d.t_rise_s + d.real.model.delay_s + 20 * d.t_cl_s;
   for (long k = 0; k * d.ts_s < horizon_s; ++k) {
     double v = d.m * step_k;
@@ -220,7 +219,7 @@ inline double saturated_step_overshoot(const Design& d, double step_k) {
       x[i] = next[i];
       y += d.real.model.c(0, i) * x[i];
     }
-    for (int j = kSfMaxDelay; j >= 1; --j) hist[j] = hist[j - 1];
+    for (int j = control::kSfMaxDelay; j >= 1; --j) hist[j] = hist[j - 1];
     if (y - step_k > peak) peak = y - step_k;
   }
   return peak;
@@ -261,7 +260,7 @@ inline Design design_for_tcl(const LtiModel& model, const DesignOptions& o, doub
 // saturated nominal step overshoots <= overshoot_limit_k. With one slow state any speed is fine
 // (landing only lowers the duty); with several, heat already stored in the block must be braked
 // with the heater at 0 %, and a law that is too fast asks for negative power and overshoots.
-inline Design design(const LtiModel& model, const DesignOptions& o = DesignOptions()) {
+inline Design design_state_feedback(const LtiModel& model, const DesignOptions& o = DesignOptions()) {
   Design probe;
   if (!design_model(model, o, &probe)) return probe;
   const double base = probe.t_rise_s > 0 ? probe.t_rise_s : probe.t_dom_s;
@@ -277,4 +276,3 @@ inline Design design(const LtiModel& model, const DesignOptions& o = DesignOptio
 }
 
 }  // namespace design
-}  // namespace control

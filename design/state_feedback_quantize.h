@@ -1,4 +1,4 @@
-// Turns a double-precision Design into the runtime's fixed-point StateFeedbackConstants
+// Turns a double-precision Design into the runtime's fixed-point control::StateFeedbackConstants
 // (formats: control/state_feedback_constants.h). Host-side double, header-only, portable.
 //
 // The feedforward M is recomputed from the *quantised* model and gains, so the fixed-point loop
@@ -8,9 +8,8 @@
 #pragma once
 
 #include "control/state_feedback_constants.h"
-#include "control/state_feedback_design.h"
+#include "design/state_feedback_design.h"
 
-namespace control {
 namespace design {
 
 // Largest shift s <= max_shift with every |round(v·2^s)| <= 32767; -1 if even s = 0 overflows.
@@ -54,9 +53,9 @@ inline bool quantize_row(const double* v, int count, int max_shift, int16_t* out
 }
 
 // Returns nullptr on success, else what went wrong.
-inline const char* quantize(const Design& d, double fan_loss_per_k, StateFeedbackConstants* k) {
+inline const char* quantize(const Design& d, double fan_loss_per_k, control::StateFeedbackConstants* k) {
   if (d.error) return d.error;
-  *k = StateFeedbackConstants();
+  *k = control::StateFeedbackConstants();
   const int n = d.real.model.n;
   k->n = static_cast<uint8_t>(n);
   k->output_mask = static_cast<uint8_t>(d.real.output_mask);
@@ -102,7 +101,7 @@ inline const char* quantize(const Design& d, double fan_loss_per_k, StateFeedbac
       return "observer gain out of range";
   }
 
-  double fir[kSfMaxDelay];
+  double fir[control::kSfMaxDelay];
   for (int j = 0; j < d.zoh.delay; ++j) fir[j] = d.h[j] * two_p;
   if (!quantize_row(fir, d.zoh.delay, 46, k->fir, &k->fir_shift))
     return "predictor gains out of range";
@@ -110,8 +109,8 @@ inline const char* quantize(const Design& d, double fan_loss_per_k, StateFeedbac
   for (int j = 0; j < d.zoh.delay; ++j) sum_h += value(k->fir[j], k->fir_shift) / two_p;
 
   // Law row: quantise L first, then M (and g_d) consistent with the quantised numbers.
-  double law[kSfMaxStates + 2];
-  int16_t lm[kSfMaxStates + 2];
+  double law[control::kSfMaxStates + 2];
+  int16_t lm[control::kSfMaxStates + 2];
   for (int j = 0; j < n; ++j) law[j] = d.lx(0, j) * two_p;
   law[n] = (1 + sum_h) * 1.01;  // headroom: the final M, g_d differ slightly
   law[n + 1] = d.m * two_p * 1.01;
@@ -126,14 +125,13 @@ inline const char* quantize(const Design& d, double fan_loss_per_k, StateFeedbac
 
   const double fan = fan_loss_per_k * pow2(16 + p) / (255.0 * 256.0);
   if (!quantize_row(&fan, 1, 46, &k->fan_gain, &k->fan_shift)) return "fan gain out of range";
-  double share[kSfMaxStates];
+  double share[control::kSfMaxStates];
   for (int j = 0; j < n; ++j) share[j] = g_q(j, 0) / gain_q;
   if (!quantize_row(share, n, 46, k->ss_share, &k->ss_share_shift))
     return "steady state out of range";
   const double inv = two_p / gain_q;
   if (!quantize_row(&inv, 1, 46, &k->inv_gain, &k->inv_gain_shift)) return "DC gain out of range";
-  return state_feedback_constants_valid(*k) ? nullptr : "constants fail the runtime's range checks";
+  return control::state_feedback_constants_valid(*k) ? nullptr : "constants fail the runtime's range checks";
 }
 
 }  // namespace design
-}  // namespace control

@@ -3,9 +3,8 @@
 // plant bank's convention: 100 % duty settles 450 K above a 25 °C ambient (a 40 W cartridge).
 #pragma once
 
-#include "control/lti_model.h"
+#include "design/lti_model.h"
 
-namespace control {
 namespace design {
 
 constexpr double kSeedRiseK = 450.0;
@@ -54,4 +53,3 @@ inline LtiModel seed003() {
 }
 
 }  // namespace design
-}  // namespace control

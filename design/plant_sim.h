@@ -5,10 +5,9 @@
 // may differ from the model's, and optional sensor noise. Host-only, header-only.
 #pragma once
 
-#include "control/design_expm.h"
-#include "control/lti_model.h"
+#include "design/expm.h"
+#include "design/lti_model.h"
 
-namespace control {
 namespace design {
 
 class PlantSim {
@@ -81,4 +80,3 @@ class PlantSim {
 };
 
 }  // namespace design
-}  // namespace control

@@ -3,9 +3,8 @@
 // tested against it; `hotend-design` simulates with it. Host-only, header-only.
 #pragma once
 
-#include "control/state_feedback_design.h"
+#include "design/state_feedback_design.h"
 
-namespace control {
 namespace design {
 
 class ReferenceController {
@@ -24,7 +23,7 @@ class ReferenceController {
     const double rise = measured_c - d_.real.model.ambient_c;
     for (int i = 0; i < d_.real.model.n; ++i) x_[i] = d_.ss_share(i, 0) * rise;
     bias_ = rise / d_.dc_gain - duty;
-    for (int j = 0; j <= kSfMaxDelay; ++j) hist_[j] = duty;
+    for (int j = 0; j <= control::kSfMaxDelay; ++j) hist_[j] = duty;
     duty_ = duty;
     primed_ = true;
     phase_ = dd_start();  // as the fixed-point runtime: predictor sum first, then the law
@@ -70,7 +69,7 @@ class ReferenceController {
       next[i] = s;
     }
     for (int i = 0; i < n; ++i) x_[i] = next[i];
-    for (int j = kSfMaxDelay; j >= 1; --j) hist_[j] = hist_[j - 1];
+    for (int j = control::kSfMaxDelay; j >= 1; --j) hist_[j] = hist_[j - 1];
     duty_ = u;
     return u;
   }
@@ -84,11 +83,10 @@ class ReferenceController {
   double fan_loss_per_k_;
   double x_[kMatCap] = {};
   double bias_ = 0;
-  double hist_[kSfMaxDelay + 1] = {};  // hist_[j] = v[k−j], heater minus fan loss
+  double hist_[control::kSfMaxDelay + 1] = {};  // hist_[j] = v[k−j], heater minus fan loss
   double duty_ = 0;
   int phase_ = 0;
   bool primed_ = false;
 };
 
 }  // namespace design
-}  // namespace control

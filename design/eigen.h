@@ -5,9 +5,8 @@
 // Loan, Matrix Computations, §7.5); eigenvectors by inverse iteration in complex arithmetic.
 #pragma once
 
-#include "control/design_matrix.h"
+#include "design/matrix.h"
 
-namespace control {
 namespace design {
 
 struct Cplx {
@@ -181,4 +180,3 @@ inline bool eigenvector(const Mat& a, Cplx lambda, Cplx* vec) {
 }
 
 }  // namespace design
-}  // namespace control

@@ -3,9 +3,8 @@
 // our models have at most 6 states and the tests check the placed polynomial to 1e-6.
 #pragma once
 
-#include "control/design_eigen.h"
+#include "design/eigen.h"
 
-namespace control {
 namespace design {
 
 // Monic polynomial z^n + c[1] z^(n−1) + … + c[n]; c[0] = 1.
@@ -114,4 +113,3 @@ inline Cplx z_of_s(Cplx s, double ts_s) {
 }
 
 }  // namespace design
-}  // namespace control

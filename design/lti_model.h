@@ -2,9 +2,8 @@
 // u = heater duty 0..1, x and y in kelvin above ambient. Host-side double, header-only.
 #pragma once
 
-#include "control/design_matrix.h"
+#include "design/matrix.h"
 
-namespace control {
 namespace design {
 
 constexpr int kMaxModelStates = 5;  // seed000's largest identified model
@@ -113,4 +112,3 @@ inline LtiModel state_space(int n, const double* a, const double* b, const doubl
 }
 
 }  // namespace design
-}  // namespace control

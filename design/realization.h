@@ -8,10 +8,9 @@
 //  - if that fails (repeated/defective poles, unobservable mode): y becomes a state of its own.
 #pragma once
 
-#include "control/design_eigen.h"
-#include "control/lti_model.h"
+#include "design/eigen.h"
+#include "design/lti_model.h"
 
-namespace control {
 namespace design {
 
 struct Realization {
@@ -138,4 +137,3 @@ inline bool realize(const LtiModel& in, Realization* out) {
 }
 
 }  // namespace design
-}  // namespace control

@@ -1,4 +1,4 @@
-// The M311 text form of StateFeedbackConstants (contract: /work/mcode_contract.md), shared by
+// The M311 text form of StateFeedbackConstants (contract: docs/controllers.md, "M-code reference"), shared by
 // the firmware (parse, M503), the design tool and the simulator so that all three agree:
 //   fields in struct order, arrays at full capacity, flat index 0..kSfFieldCount−1;
 //   "M311 I<first> A<v> B<v> ... H<v>" writes fields first..first+7; "M311 W1" commits.

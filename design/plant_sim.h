@@ -15,8 +15,7 @@ class PlantSim {
   static constexpr double kDt = 0.004;  // divides 128 ms and the seeds' dead times exactly
   static constexpr int kMaxDelaySteps = 16384;
 
-  // fan_state: which state the fan cools (two-node: the block, 0); -1 = the output y.
-  explicit PlantSim(const LtiModel& m, int fan_state = -1) : m_(m), fan_state_(fan_state) {
+  explicit PlantSim(const LtiModel& m) : m_(m) {
     step_ = exp_and_integral(m.a, m.b, kDt);
     x_ = zeros(m.n, 1);
     delay_steps_ = static_cast<int>(m.delay_s / kDt + 0.5);
@@ -39,7 +38,7 @@ class PlantSim {
       fan_line_[head_] = fan_;
       const int tail = (head_ + kMaxDelaySteps - delay_steps_) % kMaxDelaySteps;
       head_ = (head_ + 1) % kMaxDelaySteps;
-      const double cooled = fan_state_ >= 0 ? x_(fan_state_, 0) : (m_.c * x_)(0, 0);
+      const double cooled = m_.fan_state >= 0 ? x_(m_.fan_state, 0) : (m_.c * x_)(0, 0);
       const double input =
           gain_ * line_[tail] + disturbance_ - m_.fan_loss_per_k * fan_line_[tail] * cooled;
       x_ = step_.phi * x_ + input * step_.gamma;
@@ -68,7 +67,6 @@ class PlantSim {
   }
 
   LtiModel m_;
-  int fan_state_;
   ExpIntegral step_;
   Mat x_;
   double line_[kMaxDelaySteps] = {};

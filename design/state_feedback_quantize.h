@@ -134,4 +134,10 @@ inline const char* quantize(const Design& d, double fan_loss_per_k, control::Sta
   return control::state_feedback_constants_valid(*k) ? nullptr : "constants fail the runtime's range checks";
 }
 
+// The whole chain for a model: the design with its default pole rule, quantised with the model's
+// own fan loss. What `hotend-design` and the simulator upload with M311. nullptr on success.
+inline const char* design_constants(const LtiModel& model, control::StateFeedbackConstants* k) {
+  return quantize(design_state_feedback(model), model.fan_loss_per_k, k);
+}
+
 }  // namespace design

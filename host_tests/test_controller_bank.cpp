@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <utility>
 
-#include "design/state_feedback_presets.h"
+#include "host_tests/state_feedback_fixtures.h"
 #include "host_tests/controller_rig.h"
 
 namespace {
@@ -24,7 +24,7 @@ constexpr firmware::HandOver kCold{25L * 256, 0, false};
 void start(ControllerBank& bank, bool with_state_feedback) {
   bank.init(firmware::default_settings());
   if (with_state_feedback) {
-    EXPECT_TRUE(bank.load_state_feedback(control::kSfHotend40w, kCold));
+    EXPECT_TRUE(bank.load_state_feedback(fixtures::hotend40w_constants(), kCold));
   }
 }
 
@@ -40,7 +40,7 @@ TEST(ControllerBank, StateFeedbackNeedsItsConstants) {
   start(bank, false);
   EXPECT_NE(bank.apply(with(1, 0), kCold), nullptr);
   EXPECT_EQ(bank.active_id(), ControllerId::kPid);
-  EXPECT_TRUE(bank.load_state_feedback(control::kSfHotend40w, kCold));
+  EXPECT_TRUE(bank.load_state_feedback(fixtures::hotend40w_constants(), kCold));
   EXPECT_EQ(bank.apply(with(1, 0), kCold), nullptr);
   EXPECT_EQ(bank.active_id(), ControllerId::kStateFeedback);
 }
@@ -57,7 +57,7 @@ TEST(ControllerBank, RefusedChangesChangeNothing) {
   wild.pid.kp_q16 = 900L << 16;  // valid for the PID, but the fuzzy schedule reaches 1350
   EXPECT_NE(bank.apply(wild, kCold), nullptr);
   EXPECT_EQ(bank.settings().pid.kp_q16, 34L << 16);
-  control::StateFeedbackConstants broken = control::kSfHotend40w;
+  control::StateFeedbackConstants broken = fixtures::hotend40w_constants();
   broken.n = 0;
   EXPECT_NE(bank.replace_all(with(1, 0), &broken, kCold), nullptr);
   EXPECT_FALSE(bank.state_feedback_loaded());

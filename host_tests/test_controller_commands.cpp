@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "control/state_feedback_gcode.h"
-#include "design/state_feedback_presets.h"
+#include "host_tests/state_feedback_fixtures.h"
 #include "host_tests/controller_rig.h"
 
 namespace {
@@ -56,7 +56,7 @@ TEST(ControllerCommands, M310SelectsAndRefusesStateFeedbackWithoutConstants) {
 
 TEST(ControllerCommands, M311UploadsCommitsAndReportsTheConstants) {
   Rig rig;
-  const std::string upload = upload_of(control::kSfSeed004);
+  const std::string upload = upload_of(fixtures::seed004_constants());
   std::istringstream lines(upload);
   std::string line;
   int count = 0;
@@ -74,9 +74,9 @@ TEST(ControllerCommands, M311UploadsCommitsAndReportsTheConstants) {
   while (std::getline(again, line)) echoed += "echo:" + line + "\n";
   EXPECT_EQ(rig.send("M311\n"), echoed + "ok\n");
   // One field edited and committed: the staging copy started as the loaded constants.
-  EXPECT_EQ(rig.send("M311 I53 A" + std::to_string(control::kSfSeed004.ff_gain + 1) + " W1\n"), "ok\n");
-  EXPECT_EQ(rig.machine.bank.state_feedback_constants().ff_gain, control::kSfSeed004.ff_gain + 1);
-  EXPECT_EQ(rig.machine.bank.state_feedback_constants().fir[3], control::kSfSeed004.fir[3]);
+  EXPECT_EQ(rig.send("M311 I53 A" + std::to_string(fixtures::seed004_constants().ff_gain + 1) + " W1\n"), "ok\n");
+  EXPECT_EQ(rig.machine.bank.state_feedback_constants().ff_gain, fixtures::seed004_constants().ff_gain + 1);
+  EXPECT_EQ(rig.machine.bank.state_feedback_constants().fir[3], fixtures::seed004_constants().fir[3]);
 }
 
 TEST(ControllerCommands, M311RejectsBadLinesWhole) {
@@ -126,7 +126,7 @@ std::vector<std::string> settings_lines(Rig& rig) {
 
 TEST(ControllerCommands, M503LinesRestoreEverySettingOnAFreshFirmware) {
   Rig rig;
-  rig.send(upload_of(control::kSfHotend40w));
+  rig.send(upload_of(fixtures::hotend40w_constants()));
   rig.send("M301 P20 I0.5 D80\nM307 A500 C200 D6 F30\nM312 S40 E0.3 C0.7\nM310 S1 F1\n");
   const std::vector<std::string> lines = settings_lines(rig);
   ASSERT_EQ(lines.size(), 1u + 1 + 1 + 14 + 1);  // M301, M307, M312, M311 × 13 + W1, M310
@@ -139,7 +139,7 @@ TEST(ControllerCommands, M503LinesRestoreEverySettingOnAFreshFirmware) {
 
 TEST(ControllerCommands, M502ForgetsTheUploadAndFallsBackToTheDefaultController) {
   Rig rig;
-  rig.send(upload_of(control::kSfHotend40w));
+  rig.send(upload_of(fixtures::hotend40w_constants()));
   EXPECT_EQ(rig.send("M310 S1\n"), "ok\n");
   rig.send("M502\n");
   EXPECT_FALSE(rig.machine.bank.state_feedback_loaded());

@@ -11,7 +11,7 @@
 
 #include "design/state_feedback_format.h"
 #include "control/state_feedback_gcode.h"
-#include "design/state_feedback_presets.h"
+#include "host_tests/state_feedback_fixtures.h"
 
 namespace {
 
@@ -93,7 +93,7 @@ StateFeedbackConstants parse(const std::vector<std::string>& lines) {
 }
 
 TEST(StateFeedbackGcode, CanonicalLinesRoundTrip) {
-  for (const StateFeedbackConstants& k : {control::kSfHotend40w, control::kSfSeed002, control::kSfSeed0005}) {
+  for (const StateFeedbackConstants& k : {fixtures::hotend40w_constants(), fixtures::seed002_constants(), fixtures::seed000_5_constants()}) {
     const std::vector<std::string> lines = lines_of(k);
     ASSERT_EQ(lines.size(), 14u);  // 13 × 8 fields, then the commit
     EXPECT_EQ(lines.back(), "M311 W1");
@@ -107,9 +107,9 @@ TEST(StateFeedbackGcode, CanonicalLinesRoundTrip) {
 
 TEST(StateFeedbackGcode, Hotend40wFirstLineReadsAsExpected) {
   // n 2, output_mask 2, delay 0, decimation 2, input_shift 9, ambient 25 °C, phi_diag[0..1].
-  const std::vector<std::string> lines = lines_of(control::kSfHotend40w);
+  const std::vector<std::string> lines = lines_of(fixtures::hotend40w_constants());
   std::ostringstream want;
-  const StateFeedbackConstants& k = control::kSfHotend40w;
+  const StateFeedbackConstants& k = fixtures::hotend40w_constants();
   want << "M311 I0 A" << int(k.n) << " B" << int(k.output_mask) << " C" << int(k.delay) << " D" << int(k.decimation)
        << " E" << int(k.input_shift) << " F" << k.ambient_q8 << " G" << k.phi_diag[0] << " H" << k.phi_diag[1];
   EXPECT_EQ(lines[0], want.str());

@@ -20,7 +20,6 @@ using control::kSfMaxDelay;
 struct Plant {
   const char* name;
   LtiModel model;
-  int fan_state;  // state the part fan cools (-1: the output)
   double target_c;
   double seconds;
 };
@@ -28,9 +27,9 @@ struct Plant {
 // The plant bank's targets: 210 °C, 150 °C for the nearly integrating seed000 models.
 inline Plant plant(int i) {
   const Plant all[] = {
-      {"seed002", seed002(), -1, 210, 300},      {"seed004", seed004(), -1, 210, 300},
-      {"seed003", seed003(), -1, 210, 300},      {"hotend40w", two_node(), 0, 210, 400},
-      {"seed000-4", seed000_4(), -1, 150, 2000}, {"seed000-5", seed000_5(), -1, 150, 2500}};
+      {"seed002", seed002(), 210, 300},      {"seed004", seed004(), 210, 300},
+      {"seed003", seed003(), 210, 300},      {"hotend40w", two_node(), 210, 400},
+      {"seed000-4", seed000_4(), 150, 2000}, {"seed000-5", seed000_5(), 150, 2500}};
   return all[i];
 }
 constexpr int kPlantCount = 6;
@@ -117,7 +116,7 @@ class Loop {
     ReferenceController ref(design_, s_.use_fan_feedforward ? p_.model.fan_loss_per_k : 0.0);
     LtiModel truth = p_.model;
     truth.delay_s *= s_.delay_error;
-    PlantSim a(truth, p_.fan_state), b(truth, p_.fan_state);
+    PlantSim a(truth), b(truth);
     for (PlantSim* q : {&a, &b}) {
       q->set_noise(s_.noise_c);
       q->set_gain_error(s_.gain_error);

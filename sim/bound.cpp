@@ -46,7 +46,7 @@ std::vector<double> settled_step_response(const PlantSpec& spec, double gain_k, 
 
 PhysicalBound physical_bound(const PlantSpec& plant, double target_c, double band_c) {
   PhysicalBound bound;
-  const double gain_k = plant.model.dc_gain_k(0.0);
+  const double gain_k = design::dc_gain(plant.model, 0.0);
   const double target_k = target_c - plant.ambient_c;
   bound.steady_duty = target_k / gain_k;
   if (!(bound.steady_duty > 0.0 && bound.steady_duty <= 1.0)) return bound;

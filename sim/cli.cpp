@@ -136,8 +136,8 @@ int list_command() {
     const GainChoice g = gains_by_rule(p, kDefaultGainRule, p.default_target_c);
     const PhysicalBound b = physical_bound(p, p.default_target_c);
     std::cout << "  " << p.name << "  " << p.description << "\n"
-              << "      100 % settles " << format_fixed(p.model.dc_gain_k(), 1) << " K above ambient ("
-              << format_fixed(p.model.dc_gain_k(1.0), 1) << " with the fan); default "
+              << "      100 % settles " << format_fixed(design::dc_gain(p.model), 1) << " K above ambient ("
+              << format_fixed(design::dc_gain(p.model, 1.0), 1) << " with the fan); default "
               << format_fixed(p.default_target_c, 0) << " °C for " << format_fixed(p.default_seconds, 0)
               << " s, physical bound " << format_fixed(b.settling_s, 1) << " s\n"
               << "      default gains P " << format_fixed(g.gains.kp, 3) << " I "

@@ -13,11 +13,11 @@ namespace {
 
 constexpr double kMarlinFullScale = 255.0;
 
-// M310 S values (mcode_contract.md).
+// M310 S values (docs/controllers.md).
 constexpr int kPid = 0, kStateFeedback = 1, kFuzzyPid = 2, kMarlinPid = 3;
 
 // Seed 002's fuzzy supervisor as published: quantisation 0.4 /°C (e) and 0.6 s/°C (ec), around
-// the M301 gains with the firmware's default spread (mcode_contract.md, M312).
+// the M301 gains with the firmware's default spread (docs/controllers.md, M312).
 const char* const kFuzzyConfig = "M312 S50 E0.4 C0.6";
 
 std::string select(int controller, bool feedforward) {
@@ -91,9 +91,9 @@ ControllerSetup controller_setup(const std::string& name, const PlantSpec& plant
   }
   // paper
   const PublishedGains p = *published_gains(plant);
-  s.gains = marlin_gains_from_paper(p, plant.model.dc_gain_k());
+  s.gains = marlin_gains_from_paper(p, design::dc_gain(plant.model));
   s.gains_source = p.source + ", loop gain matched (K " + format_decimal(p.plant_gain, 3) + " -> " +
-                   format_decimal(plant.model.dc_gain_k(), 1) + " °C per 100 %)" +
+                   format_decimal(design::dc_gain(plant.model), 1) + " °C per 100 %)" +
                    (p.note.empty() ? "" : "; " + p.note);
   s.gcode.push_back(select(p.controller, false));
   return s;

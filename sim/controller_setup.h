@@ -1,6 +1,6 @@
 // The controllers the benchmark and the HIL tests compare, each as the G-code a host would send
 // to set it up on a given plant (M301 gains, M307 model, M311 state-feedback constants, M312
-// fuzzy configuration, M310 choice; /work/mcode_contract.md), computed from the plant's model:
+// fuzzy configuration, M310 choice; docs/controllers.md), computed from the plant's model:
 //   pid        S0 F0   PID, gains by the default rule (SIMC PI, τc = 2τ, on the FOPDT fit)
 //   pid+ff     S0 F1   PID + model feedforward (M307), gains by kFeedforwardGainRule
 //   fuzzy      S2 F0   fuzzy-PID around the pid gains (seed 002's quantisation factors)

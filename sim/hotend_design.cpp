@@ -45,8 +45,7 @@ const char kUsage[] =
     "  --fan-loss L               duty lost per kelvin at 100 % fan (two-node: 7.25e-4)\n"
     "  --name IDENT               name of the emitted C++ constant (default kStateFeedback)\n"
     "  --target C                 closed-loop check target (default 210)\n"
-    "  --initializer-only         print only the C++ initializer "
-    "(design/state_feedback_presets.h)\n";
+    "  --initializer-only         print only the C++ initializer\n";
 
 bool parse_list(const char* text, std::vector<double>* out) {
   out->clear();
@@ -118,14 +117,13 @@ void print_poles(const char* name, const Cplx* wanted, int n, const Mat& closed,
 }
 
 // Fixed-point constants on the continuous plant: heat from 25 C to the target.
-void closed_loop_check(const LtiModel& m, const control::StateFeedbackConstants& k, double target_c,
-                       int fan_state) {
+void closed_loop_check(const LtiModel& m, const control::StateFeedbackConstants& k, double target_c) {
   control::StateFeedback sf;
   if (!sf.configure(k)) {
     std::printf("check: constants rejected by the runtime\n");
     return;
   }
-  PlantSim plant(m, fan_state);
+  PlantSim plant(m);
   const double bound = full_power_rise_time(m, target_c - m.ambient_c) + m.delay_s;
   double peak = -1e9, settle = 0, duty_sum = 0;
   const double seconds = 4 * bound + 60;
@@ -156,7 +154,6 @@ void closed_loop_check(const LtiModel& m, const control::StateFeedbackConstants&
 int main(int argc, char** argv) {
   LtiModel model;
   bool have_model = false;
-  int fan_state = -1;
   DesignOptions o;
   double fan_loss = -1, target_c = 210;
   const char* name = "kStateFeedback";
@@ -185,7 +182,6 @@ int main(int argc, char** argv) {
       have_model = true;
     } else if (!std::strcmp(a, "--two-node")) {
       model = two_node();
-      fan_state = 0;
       have_model = true;
     } else if (!std::strcmp(a, "--seed002")) {
       model = seed002();
@@ -304,8 +300,8 @@ int main(int argc, char** argv) {
 
   std::printf("== fixed-point constants (formats: control/state_feedback_constants.h)\n");
   print_initializer(stdout, k, name);
-  std::printf("== upload to the firmware (M311, /work/mcode_contract.md; W1 checks and applies)\n");
+  std::printf("== upload to the firmware (M311, docs/controllers.md; W1 checks and applies)\n");
   control::write_state_feedback_mcode(k, [](const char* line) { std::printf("%s\n", line); });
-  closed_loop_check(model, k, target_c, fan_state);
+  closed_loop_check(model, k, target_c);
   return 0;
 }

@@ -13,18 +13,20 @@ namespace sim {
 namespace {
 
 // A one-state model whose output is its state: K·e^(−τs)/(T·s + 1) exactly.
-bool is_fopdt(const LtiModel& m) { return m.order() == 1 && m.c(0, 0) == 1.0 && m.a(0, 0) < 0.0; }
+bool is_fopdt(const design::LtiModel& m) { return m.n == 1 && m.c(0, 0) == 1.0 && m.a(0, 0) < 0.0; }
 
-double fan_loss_fraction(const LtiModel& m) { return m.dc_gain_k(0.0) / m.dc_gain_k(1.0) - 1.0; }
+double fan_loss_fraction(const design::LtiModel& m) {
+  return design::dc_gain(m, 0.0) / design::dc_gain(m, 1.0) - 1.0;
+}
 
 }  // namespace
 
 HotendModelSetting hotend_model_for(const PlantSpec& plant) {
-  const LtiModel& m = plant.model;
+  const design::LtiModel& m = plant.model;
   HotendModelSetting s;
   s.fan_loss_pct = 100.0 * fan_loss_fraction(m);
   if (is_fopdt(m)) {
-    s.rise_k = m.dc_gain_k();
+    s.rise_k = design::dc_gain(m);
     s.time_constant_s = -1.0 / m.a(0, 0);
     s.dead_time_s = m.delay_s;
     s.source = "exact FOPDT";
@@ -45,25 +47,12 @@ std::string m307_command(const HotendModelSetting& model) {
 }
 
 design::LtiModel design_model_for(const PlantSpec& plant) {
-  const LtiModel& m = plant.model;
-  const int n = static_cast<int>(m.order());
-  if (n > design::kMaxModelStates) throw std::runtime_error(plant.name + ": too many states to design for");
-  design::LtiModel d;
-  d.n = n;
-  d.a = design::zeros(n, n);
-  d.b = design::zeros(n, 1);
-  d.c = design::zeros(1, n);
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) d.a(i, j) = m.a(i, j);
-    d.b(i, 0) = m.b(i, 0);
-    d.c(0, i) = m.c(0, i);
-  }
-  // The bank puts the dead time at the output, the design at the input: the same transfer
-  // function (LTI), and the fan enters through the input path on the seeds (plants.cpp).
-  d.delay_s = m.delay_s;
+  if (plant.model.n > design::kMaxModelStates) throw std::runtime_error(plant.name + ": too many states to design for");
+  // The bank's models are the design tool's type: only the ambient is the plant's own. The bank
+  // simulates the dead time at the output, the design puts it at the input: the same transfer
+  // function, and the fan's loss passes it either way (sim/plants.h).
+  design::LtiModel d = plant.model;
   d.ambient_c = plant.ambient_c;
-  d.fan_loss_per_k = 1.0 / m.dc_gain_k(1.0) - 1.0 / m.dc_gain_k(0.0);
-  d.physical_states = m.physical_states;
   return d;
 }
 

@@ -13,7 +13,7 @@
 
 namespace sim {
 
-// M307 A C D F (mcode_contract.md): FOPDT rise at 100 % duty (°C), time constant (s), dead
+// M307 A C D F (docs/controllers.md): FOPDT rise at 100 % duty (°C), time constant (s), dead
 // time (s), extra loss with the part fan at 100 % (% of the no-fan loss).
 struct HotendModelSetting {
   double rise_k = 0.0;
@@ -29,9 +29,8 @@ struct HotendModelSetting {
 HotendModelSetting hotend_model_for(const PlantSpec& plant);
 std::string m307_command(const HotendModelSetting& model);
 
-// The plant's LTI model in control/'s design form: same matrices, the dead time, and the fan's
-// extra loss as heater-duty equivalent per kelvin of rise (1/K_fan-full − 1/K_fan-off, exact
-// at steady state).
+// The model the design tool is given for the plant: the bank's own design::LtiModel (matrices,
+// dead time, fan path) with the plant's ambient.
 design::LtiModel design_model_for(const PlantSpec& plant);
 
 struct StateFeedbackSetting {

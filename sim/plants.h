@@ -1,41 +1,29 @@
 // The plant bank: hotend thermal models from the seed papers plus one physical model, all in
 // continuous time (seconds), output = temperature rise above ambient (K), inputs = heater duty
-// 0–1 and part-fan duty 0–1 (extra heat loss, see plants.cpp). Plant steps one instance exactly
-// (zero-order hold on the measured duty, dead time as a delay line).
+// 0–1 and part-fan duty 0–1 (extra heat loss, design/lti_model.h). Plant steps one instance
+// exactly (zero-order hold on the measured duty, dead time as a delay line).
+//
+// The dead time sits at the output (transport from the heated block to the thermistor): for the
+// heater this is the same as an input delay, and it makes the fan's extra loss reach the sensor
+// through the same delay as the heater's power — a fan step is then an input-equivalent
+// disturbance that feedforward can cancel, not one that outruns every controller.
 #pragma once
 
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "sim/linalg.h"
+#include "design/expm.h"
+#include "design/lti_model.h"
 
 namespace sim {
-
-// x' = (A + fan·A_fan)·x + B·u,  rise(t) = C·x(t − delay).
-// The dead time sits at the output (transport from the heated block to the thermistor): for
-// the heater this is the same as an input delay, and it makes the fan's extra loss reach the
-// sensor through the same delay as the heater's power — a fan step is then an input-equivalent
-// disturbance that feedforward can cancel, not one that outruns every controller.
-struct LtiModel {
-  Matrix a;
-  Matrix a_fan;  // same shape as a; all zero when the fan is not modelled
-  Matrix b;      // n×1, K/s per unit duty
-  Matrix c;      // 1×n
-  double delay_s = 0.0;
-  // True when the states are temperatures in cascade (FOPDT, two lags, two-node): the
-  // state-feedback design keeps them; identified matrices go to modal form (design/lti_model.h).
-  bool physical_states = false;
-
-  std::size_t order() const { return a.rows(); }
-  // Steady-state rise (K) per unit heater duty at a constant fan duty: −C·(A + fan·A_fan)⁻¹·B.
-  double dc_gain_k(double fan_duty = 0.0) const;
-};
 
 struct PlantSpec {
   std::string name;
   std::string description;
-  LtiModel model;
+  // The plant's dynamics and fan path (design/lti_model.h, the same model type the design tool
+  // and the host tests use). Its dead time is simulated at the output (see Plant).
+  design::LtiModel model;
   double ambient_c = 25.0;
   // What the HIL tests and the benchmark run on this plant by default: the seed000 models are
   // nearly integrating (slow poles of 10–20 min), so they get the seed's own 150 °C set point
@@ -66,7 +54,7 @@ class Plant {
   const PlantSpec& spec() const { return spec_; }
 
  private:
-  const Discretised& zoh_for_fan_level(int level);
+  const design::ExpIntegral& zoh_for_fan_level(int level);
 
   static constexpr int kFanLevels = 256;      // airflow quantised to 1/256 for the cache
   static constexpr double kFanSpinUpS = 0.5;  // airflow lag behind the modulated fan pin
@@ -79,7 +67,7 @@ class Plant {
   double rise_k_ = 0.0;       // the delayed output
   double airflow_step_gain_;  // first-order lag of the airflow per step
   double airflow_ = 0.0;      // filtered fan duty 0..1
-  std::vector<std::unique_ptr<Discretised>> zoh_by_fan_level_;
+  std::vector<std::unique_ptr<design::ExpIntegral>> zoh_by_fan_level_;
   long long steps_ = 0;
 };
 

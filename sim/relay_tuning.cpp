@@ -19,7 +19,7 @@ constexpr double kMinPhaseS = 5.0;
 
 RelayResult relay_experiment(const PlantSpec& plant, double target_c, double decision_period_s) {
   RelayResult r;
-  const double bias = std::clamp((target_c - plant.ambient_c) / plant.model.dc_gain_k(), 0.0, 1.0);
+  const double bias = std::clamp((target_c - plant.ambient_c) / design::dc_gain(plant.model), 0.0, 1.0);
   r.relay_amplitude_duty = std::min(bias, 1.0 - bias);
   if (r.relay_amplitude_duty <= 0.0) return r;
 

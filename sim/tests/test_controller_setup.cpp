@@ -5,7 +5,6 @@
 
 #include <cstring>
 
-#include "design/state_feedback_presets.h"
 #include "sim/controller_setup.h"
 #include "sim/plant_model.h"
 
@@ -16,10 +15,6 @@ const PlantSpec& plant(const char* name) {
   const PlantSpec* p = find_plant(name);
   EXPECT_NE(p, nullptr) << name;
   return *p;
-}
-
-bool same_constants(const control::StateFeedbackConstants& a, const control::StateFeedbackConstants& b) {
-  return m311_commands(a) == m311_commands(b);  // every field, in the upload's own words
 }
 
 TEST(PlantModel, FopdtPlantsGiveTheirExactModel) {
@@ -46,21 +41,8 @@ TEST(PlantModel, DesignModelCarriesTheFanLossAsHeaterDutyPerKelvin) {
   EXPECT_FALSE(design_model_for(plant("seed000-5")).physical_states);
 }
 
-// The control/ presets are designed from design/seed_models.h; the harness designs from
-// the simulator's own plant matrices. Both must describe the same plants.
-TEST(PlantModel, StateFeedbackFromThePlantMatchesThePresets) {
-  const struct {
-    const char* plant;
-    const control::StateFeedbackConstants& preset;
-  } cases[] = {{"hotend40w", control::kSfHotend40w}, {"seed002", control::kSfSeed002},
-               {"seed004", control::kSfSeed004},     {"seed003", control::kSfSeed003},
-               {"seed000-4", control::kSfSeed0004},  {"seed000-5", control::kSfSeed0005}};
-  for (const auto& c : cases)
-    EXPECT_TRUE(same_constants(state_feedback_for(plant(c.plant)).constants, c.preset)) << c.plant;
-}
-
 TEST(PlantModel, M311UploadIsThirteenFieldLinesAndACommit) {
-  const std::vector<std::string> lines = m311_commands(control::kSfSeed004);
+  const std::vector<std::string> lines = m311_commands(state_feedback_for(plant("seed004")).constants);
   ASSERT_EQ(lines.size(), 14u);
   EXPECT_EQ(lines.front().rfind("M311 I0 A1 ", 0), 0u);  // n = 1 state
   EXPECT_EQ(lines[12].rfind("M311 I96 ", 0), 0u);

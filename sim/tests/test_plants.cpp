@@ -25,26 +25,26 @@ double settle_rise_k(const PlantSpec& spec, double heater, double fan, double se
 
 TEST(PlantBank, SeedGainsAreRescaledTo450KAtFullPower) {
   for (const char* name : {"seed002", "seed004", "seed003", "seed000-4", "seed000-5"})
-    EXPECT_NEAR(plant(name).model.dc_gain_k(), 450.0, 1e-6) << name;
+    EXPECT_NEAR(design::dc_gain(plant(name).model), 450.0, 1e-6) << name;
 }
 
 TEST(PlantBank, Hotend40wIsPhysical) {
-  EXPECT_NEAR(plant("hotend40w").model.dc_gain_k(0.0), 40.0 / 0.068, 1e-9);
-  EXPECT_NEAR(plant("hotend40w").model.dc_gain_k(1.0), 40.0 / 0.097, 1e-9);
+  EXPECT_NEAR(design::dc_gain(plant("hotend40w").model, 0.0), 40.0 / 0.068, 1e-9);
+  EXPECT_NEAR(design::dc_gain(plant("hotend40w").model, 1.0), 40.0 / 0.097, 1e-9);
 }
 
 TEST(Plant, SimulatedSteadyStateMatchesTheDcGain) {
   // Also shows every model is stable with the fan's extra loss.
   for (const PlantSpec& spec : plant_bank())
     for (double fan : {0.0, 1.0})
-      EXPECT_NEAR(settle_rise_k(spec, 0.5, fan, 40000.0), 0.5 * spec.model.dc_gain_k(fan), 1e-3)
+      EXPECT_NEAR(settle_rise_k(spec, 0.5, fan, 40000.0), 0.5 * design::dc_gain(spec.model, fan), 1e-3)
           << spec.name << " fan " << fan;
 }
 
 TEST(PlantBank, TheFanRaisesTheLossLikeHotend40wsOnEveryPlant) {
-  const double ratio = plant("hotend40w").model.dc_gain_k(0.0) / plant("hotend40w").model.dc_gain_k(1.0);
+  const double ratio = design::dc_gain(plant("hotend40w").model, 0.0) / design::dc_gain(plant("hotend40w").model, 1.0);
   for (const PlantSpec& spec : plant_bank())
-    EXPECT_NEAR(spec.model.dc_gain_k(0.0) / spec.model.dc_gain_k(1.0), ratio, 1e-9) << spec.name;
+    EXPECT_NEAR(design::dc_gain(spec.model, 0.0) / design::dc_gain(spec.model, 1.0), ratio, 1e-9) << spec.name;
 }
 
 TEST(Plant, FopdtIsExactAtSampleInstants) {
@@ -70,15 +70,6 @@ TEST(Plant, HeaterDutyActsThroughItsAverage) {
 
 TEST(Plant, RejectsAStepThatDoesNotDivideTheDeadTime) {
   EXPECT_THROW(Plant(plant("seed002"), 0.007), std::invalid_argument);
-}
-
-TEST(Expm, MatchesClosedForms) {
-  const Matrix e = expm(Matrix{{-2.0, 0.0}, {0.0, -0.5}} * 3.0);
-  EXPECT_NEAR(e(0, 0), std::exp(-6.0), 1e-12);
-  EXPECT_NEAR(e(1, 1), std::exp(-1.5), 1e-12);
-  const Matrix r = expm(Matrix{{0.0, -1.0}, {1.0, 0.0}} * 2.0);  // rotation by 2 rad
-  EXPECT_NEAR(r(0, 0), std::cos(2.0), 1e-12);
-  EXPECT_NEAR(r(1, 0), std::sin(2.0), 1e-12);
 }
 
 TEST(PhysicalBound, FopdtBoundIsDeadTimePlusTimeToEnterTheBand) {

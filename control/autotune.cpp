@@ -111,14 +111,13 @@ void Autotune::enter(Phase p) {
   bins_ = 0;
 }
 
-uint16_t Autotune::ring_sum(uint8_t bins) const {
-  uint16_t s = 0;  // ≤ 64 · 255
-  uint8_t i = ring_head_;
-  for (uint8_t n = 0; n < bins && n < kRingBins; ++n) {
-    i = static_cast<uint8_t>((i + kRingBins - 1) % kRingBins);
-    s = static_cast<uint16_t>(s + ring_[i]);
-  }
-  return s;
+int32_t Autotune::model_ago(uint8_t bins) const {
+  const uint8_t i = static_cast<uint8_t>((ring_head_ + kRingBins - 1 - (bins % kRingBins)) % kRingBins);
+  return int32_t{ring_[i]} * 16 + offset_q8_;
+}
+
+uint8_t Autotune::duty_ago(uint8_t bins) const {
+  return duty_ring_[(ring_head_ + kRingBins - 1 - (bins % kRingBins)) % kRingBins];
 }
 
 AutotuneOutput Autotune::step(int32_t y) {
@@ -179,9 +178,16 @@ AutotuneOutput Autotune::step(int32_t y) {
     y_prev2_q8_ = y_prev_q8_;
     y_prev_q8_ = y_bin_q8_;
     y_bin_q8_ = (bin_sum_q8_ + kTicksPerBin / 2) / kTicksPerBin;
-    const uint16_t mean_duty = static_cast<uint16_t>((bin_duty_sum_ + kTicksPerBin / 2) / kTicksPerBin);
-    ring_[ring_head_] = static_cast<uint8_t>(mean_duty > 255 ? 255 : mean_duty);
-    ring_head_ = static_cast<uint8_t>((ring_head_ + 1) % kRingBins);
+    last_bin_duty_q8_ = static_cast<uint16_t>((bin_duty_sum_ + kTicksPerBin / 2) / kTicksPerBin);
+    if (phase_ != Phase::kApproach) {  // the approach writes both rings itself
+      duty_ring_[ring_head_] = static_cast<uint8_t>(last_bin_duty_q8_ > 255 ? 255 : last_bin_duty_q8_);
+      ring_[ring_head_] = 0;
+      ring_head_ = static_cast<uint8_t>((ring_head_ + 1) % kRingBins);
+    }
+    y_hist_q8_[3] = y_hist_q8_[2];
+    y_hist_q8_[2] = y_hist_q8_[1];
+    y_hist_q8_[1] = y_hist_q8_[0];
+    y_hist_q8_[0] = y_prev_q8_;
     bin_sum_q8_ = 0;
     bin_duty_sum_ = 0;
     bin_ticks_ = 0;
@@ -237,6 +243,9 @@ void Autotune::on_bin() {
     case Phase::kApproach:
       approach_bin();
       return;
+    case Phase::kRelay:
+      relay_bin();
+      return;
     default:
       return;
   }
@@ -263,30 +272,43 @@ void Autotune::probe_bin() {
   dev_prev2_q8_ = dev_prev_q8_;
   dev_prev_q8_ = dev_q8_;
   dev_q8_ = y_bin_q8_ - ambient_q8_ - base_rise_q8_;
-  const uint16_t k = bins_;
+  const uint16_t k = bins_;  // bin k covers probe ticks (8(k − 1), 8k]
   if (!detected_ && dev_q8_ >= kDetectQ8) {
     detected_ = true;
     det_bin_ = k;
   }
   int32_t slope = 0;
   if (k >= 3) {
-    slope = (dev_q8_ - dev_prev2_q8_) / 2;
+    slope = (dev_q8_ - dev_prev2_q8_) / 2;  // centred on bin k − 1
     if (slope > slope_max_q8_ + slope_max_q8_ / 32) slope_max_bin_ = k;
-    if (slope > slope_max_q8_) slope_max_q8_ = slope;
+    if (slope > slope_max_q8_) {
+      slope_max_q8_ = slope;
+      slope_max_dev_q8_ = dev_prev_q8_;
+      max_centre_tick_ = static_cast<int32_t>(k - 1) * kTicksPerBin - kTicksPerBin / 2;
+    }
   }
   if (heater_on_) {
-    // Past the energy cap only while the response is already seen, still steepening, and even
-    // at its current slope over a generous horizon (2× the detection time + 4 s) it stays
-    // 10 °C below the target.
+    if (!detected_) return;
+    // Still steepening (lags filling up): keep heating past the energy cap while, even at the
+    // current slope over a generous horizon (2× the detection time + 4 s), it stays 10 °C
+    // below the target. Once the slope is steady, S and the tangent's dead time are known:
+    // go on heating under the approach's predictor, without a cut.
     const int32_t horizon = 2 * det_bin_ + 4;
-    extend_ = detected_ && k - slope_max_bin_ < 3 && slope > 0 &&
-              y_bin_q8_ + slope * horizon < target_q8_ - 10 * kQ8 && on_ticks_ < ticks_from_s(40);
+    const bool steepening = k - slope_max_bin_ < 3 || k < det_bin_ + 3;
+    const bool safe = y_bin_q8_ + slope * horizon < target_q8_ - 10 * kQ8 && on_ticks_ < ticks_from_s(40);
+    extend_ = steepening && safe;
+    if (!extend_ && slope_max_q8_ > 0 && (on_ticks_ >= cap_ticks_ || !steepening)) {
+      continuous_ = true;
+      const int32_t s = slope_max_q8_;
+      int32_t l = max_centre_tick_ - slope_max_dev_q8_ * kTicksPerBin / s;  // tangent: L = t − rise/S
+      begin_approach(s, l, 0, static_cast<uint8_t>(on_ticks_ / kTicksPerBin));
+    }
     return;
   }
   const uint16_t since_off = static_cast<uint16_t>(probe_ticks_ - off_tick_);
   if (!detected_) {
     if (since_off > ticks_from_s(60)) {
-      // Nothing in a minute: a weaker hotend than assumed (or a dead heater). A twice longer
+      // Nothing in a minute: a weaker hotend than assumed (or a dead heater). A 4× longer
       // pulse is safe: the last one raised it by less than 0.5 °C.
       if (++retries_ > 3) {
         fail(AutotuneFailure::kNoHeating);
@@ -311,67 +333,122 @@ void Autotune::probe_bin() {
     }
     return;
   }
-  // Cut-to-peak time: the output's peak is at the centre of the highest bin.
+  // Cut-to-peak time (the FOPDT's dead time; longer than the lag of a lag-type hotend): the
+  // output's peak is at the centre of the highest bin.
   const int32_t peak_tick = static_cast<int32_t>(peak_bin_) * kTicksPerBin - kTicksPerBin / 2;
   int32_t horizon_ticks = peak_tick - static_cast<int32_t>(off_tick_);
-  if (horizon_ticks < kTicksPerBin) horizon_ticks = kTicksPerBin;
   // Decay after the peak for a quarter of the horizon (≥ 3 bins): the loss rate 1/T.
-  const uint16_t window = static_cast<uint16_t>(horizon_ticks / (4 * kTicksPerBin) < 3 ? 3 : horizon_ticks / (4 * kTicksPerBin));
-  if (k - peak_bin_ < window) return;
+  const int32_t quarter = horizon_ticks / (4 * kTicksPerBin);
+  if (k - peak_bin_ < (quarter < 3 ? 3 : quarter)) return;
   const int32_t drop = y_peak_q8_ - y_bin_q8_;
   const int32_t mid_rise = (y_peak_q8_ + y_bin_q8_) / 2 - ambient_q8_;
   uint32_t inv_t = 0;
-  if (drop > 0 && mid_rise > kQ8) {
+  if (drop > kQ8 && mid_rise > kQ8) {  // a drop under 1 °C is noise: loss unknown (learnt later)
     inv_t = fixed::mul_div_u32(static_cast<uint32_t>(drop), 65536,
                                static_cast<uint32_t>(mid_rise) * static_cast<uint32_t>(k - peak_bin_));
   }
-  inv_t_q16_ = static_cast<uint16_t>(inv_t > 16384 ? 16384 : inv_t);
-  horizon_ticks_ = horizon_ticks;
-  horizon_bins_ = static_cast<uint8_t>((horizon_ticks + kTicksPerBin - 1) / kTicksPerBin + 1);
-  if (horizon_bins_ > kRingBins - 1) horizon_bins_ = kRingBins - 1;
-  // S calibrated on this pulse: the predictor y + S·∫u(last L̂) − L̂·loss must reproduce the rise
-  // seen after the cut. In-flight heat at the cut = dev_peak − dev_at_cut (+ the loss over L̂).
-  const int32_t loss_q8 = fixed::mul_q16(dev_peak_q8_ + base_rise_q8_, inv_t_q16_) * (horizon_bins_ - 1);
-  int32_t in_flight = dev_peak_q8_ - dev_off_q8_ + loss_q8;
-  const int32_t u_ticks = on_ticks_ < horizon_ticks ? on_ticks_ : horizon_ticks;
-  int32_t s = in_flight * kTicksPerBin / (u_ticks > 0 ? u_ticks : 1);
+  // S: the steepest slope of the response, or the whole rise over the pulse when the pulse was
+  // too short for a clean slope.
+  int32_t s = dev_peak_q8_ * kTicksPerBin / (on_ticks_ > 0 ? on_ticks_ : 1);
   if (s < slope_max_q8_) s = slope_max_q8_;
+  begin_approach(s, horizon_ticks, static_cast<uint16_t>(inv_t > 16384 ? 16384 : inv_t), 0);
+}
+
+void Autotune::begin_approach(int32_t s, int32_t horizon_ticks, uint16_t inv_t_q16, uint8_t on_bins) {
   if (s < 8) s = 8;
+  if (horizon_ticks < kTicksPerBin) horizon_ticks = kTicksPerBin;
   slope_q8_ = s;
+  inv_t_q16_ = inv_t_q16;
+  horizon_ticks_ = horizon_ticks;
+  uint32_t hb = static_cast<uint32_t>(horizon_ticks + kTicksPerBin - 1) / kTicksPerBin + 1;
+  horizon_bins_ = static_cast<uint8_t>(hb > kRingBins - 2 ? kRingBins - 2 : hb);
   // Approach: closed-loop time constant = the horizon (≥ 3 bins); P gain 1/(S·τ).
   tau_bins_ = horizon_bins_ < 3 ? 3 : horizon_bins_;
-  uint32_t g = (uint32_t{1} << 24) / (static_cast<uint32_t>(s) * tau_bins_);
+  const uint32_t g = (uint32_t{1} << 24) / (static_cast<uint32_t>(s) * tau_bins_);
   gain_q8_ = static_cast<int32_t>(g > 40000 ? 40000 : g);
-  // ū = loss at the target / S.
-  steady_q16_ = static_cast<int32_t>(fixed::mul_div_u32(
-      static_cast<uint32_t>(fixed::mul_q16(target_q8_ - ambient_q8_, inv_t_q16_)), 65536, static_cast<uint32_t>(s)));
-  if (steady_q16_ > kFull) steady_q16_ = kFull;
+  // ū = loss at the target / S (0 while the loss is unknown: learnt during the heat-up).
+  steady_q16_ = steady_from_model();
+  // The model's history over the last L̂ bins: the undelayed state whose delayed copy is the
+  // reading now, x(now − L̂) = rise, run forward with the duty of those bins (full power for the
+  // last min(on_bins, L̂), else off) and the loss. Older entries are never read.
+  const int32_t rise = y_bin_q8_ - ambient_q8_;
+  const uint8_t on = on_bins < horizon_bins_ ? on_bins : horizon_bins_;
+  int32_t x = rise;
+  for (uint8_t j = horizon_bins_ + 1; j-- > 0;) {
+    if (j < horizon_bins_) x += (j < on ? s : 0) - fixed::mul_q16(x, inv_t_q16_);
+    ring_[(ring_head_ + kRingBins - 1 - j) % kRingBins] = static_cast<int16_t>(fixed::clamp(x / 16, int32_t{-32000}, int32_t{32000}));
+    offset_q8_ = 0;
+  }
+  model_q8_ = x;
+  ref_rise_q8_ = rise;
+  ref_slope_q8_ = 0;
+  full_bins_ = on;
+  duty_avg_q16_ = 0;
   settled_bins_ = 0;
   enter(Phase::kApproach);
-  approach_bin();
+  duty_q16_ = heater_on_ ? kFull : 0;
+  heater_on_ = false;
+}
+
+int32_t Autotune::steady_from_model() const {
+  const uint32_t loss = static_cast<uint32_t>(fixed::mul_q16(target_q8_ - ambient_q8_, inv_t_q16_));
+  const uint32_t u = fixed::mul_div_u32(loss, 65536, static_cast<uint32_t>(slope_q8_));
+  return static_cast<int32_t>(u > kFull ? kFull : u);
 }
 
 void Autotune::approach_bin() {
   const int32_t rise = y_bin_q8_ - ambient_q8_;
-  // Smith predictor (FOPDT S, L̂, 1/T): where the reading goes once the heat in flight arrives.
-  const int32_t in_flight = static_cast<int32_t>((static_cast<uint32_t>(slope_q8_) * ring_sum(horizon_bins_) + 128) >> 8);
-  const int32_t loss = fixed::mul_q16(rise > 0 ? rise : 0, inv_t_q16_) * horizon_bins_;
-  const int32_t predicted = y_bin_q8_ + in_flight - loss;
+  // Loss learning while at full power (the slope falls as the loss grows): 1/T = Δslope/Δrise
+  // between a reference 4-bin slope taken once the heat-up runs at full power and the latest,
+  // over at least 40 °C (the same estimator at both ends: no bias from taking a maximum).
+  full_bins_ = last_bin_duty_q8_ >= 255 ? static_cast<uint8_t>(full_bins_ < 250 ? full_bins_ + 1 : 250) : 0;
+  if (full_bins_ > horizon_bins_ + 4) {
+    const int32_t s4 = (y_bin_q8_ - y_hist_q8_[3]) / 4;
+    const int32_t at = rise - 2 * s4;  // rise at the window's centre
+    if (ref_slope_q8_ == 0) {
+      ref_slope_q8_ = s4 > 0 ? s4 : 1;
+      ref_rise_q8_ = at;
+    } else if (at - ref_rise_q8_ > 40 * kQ8 && s4 < ref_slope_q8_) {
+      const uint32_t inv_t = fixed::mul_div_u32(static_cast<uint32_t>(ref_slope_q8_ - s4), 65536, static_cast<uint32_t>(at - ref_rise_q8_));
+      inv_t_q16_ = static_cast<uint16_t>(inv_t > 16384 ? 16384 : inv_t);
+    }
+  }
+  // Smith predictor: model x' = S·u − x/T (undelayed); prediction = reading + x(now) − x(now − L̂),
+  // the heat in flight. The model is anchored to the reading (its delayed state pulled towards
+  // it, a quarter per bin, by shifting the whole history through offset_q8_), so its loss term
+  // works on the real temperature.
+  model_q8_ += static_cast<int32_t>((static_cast<uint32_t>(slope_q8_) * last_bin_duty_q8_ + 128) >> 8) -
+               fixed::mul_q16(model_q8_, inv_t_q16_);
+  model_q8_ = fixed::clamp(model_q8_, int32_t{-30000} * 16, int32_t{30000} * 16);
+  ring_[ring_head_] = static_cast<int16_t>(fixed::clamp((model_q8_ - offset_q8_) / 16, int32_t{-32000}, int32_t{32000}));
+  duty_ring_[ring_head_] = static_cast<uint8_t>(last_bin_duty_q8_ > 255 ? 255 : last_bin_duty_q8_);
+  ring_head_ = static_cast<uint8_t>((ring_head_ + 1) % kRingBins);
+  const int32_t anchor = (rise - model_ago(horizon_bins_)) / 4;
+  offset_q8_ += anchor;
+  model_q8_ += anchor;
+  // Loss learning near the target, where the heater is not at full power: the model's slope
+  // S·u(t − L̂) − x/T against the reading's 4-bin slope; the error moves 1/T by ⅛ per bin. This
+  // keeps the model's steady state on the real one, so the predictor holds the target exactly.
+  if (full_bins_ == 0 && rise > 20 * kQ8) {
+    const int32_t s4 = (y_bin_q8_ - y_hist_q8_[3]) / 4;
+    const int32_t centre = rise - 2 * s4;
+    const int32_t model_slope = static_cast<int32_t>((static_cast<uint32_t>(slope_q8_) * duty_ago(horizon_bins_ + 2) + 128) >> 8) -
+                                fixed::mul_q16(centre, inv_t_q16_);
+    const int32_t err = model_slope - s4;  // > 0: more loss than the model has
+    const int32_t step = static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(abs32(err)), 8192, static_cast<uint32_t>(centre)));
+    inv_t_q16_ = static_cast<uint16_t>(fixed::clamp(static_cast<int32_t>(inv_t_q16_) + (err > 0 ? step : -step), int32_t{0}, int32_t{16384}));
+  }
+  steady_q16_ = steady_from_model();
+  const int32_t predicted = y_bin_q8_ + model_ago(0) - model_ago(horizon_bins_);
   const int32_t ex = fixed::clamp(target_q8_ - predicted, -200 * kQ8, 200 * kQ8);
   const int32_t u = steady_q16_ + ((ex * gain_q8_) >> 8);  // |ex·gain| ≤ 51,200 · 40,000 < 2^31
-  const int32_t ey = fixed::clamp(target_q8_ - y_bin_q8_, -10 * kQ8, 10 * kQ8);
-  if (u > 0 && u < kFull && abs32(target_q8_ - y_bin_q8_) < 10 * kQ8) {
-    // Integral on the measured error: ū adapts over ~2(τ + L̂).
-    steady_q16_ += ((ey * gain_q8_) >> 8) / (2 * (tau_bins_ + horizon_bins_));
-    steady_q16_ = fixed::clamp(steady_q16_, int32_t{0}, int32_t{kFull});
-  }
   duty_q16_ = clamp_duty(u);
+  duty_avg_q16_ += (static_cast<int32_t>(duty_q16_) - duty_avg_q16_) / 4;
   settled_bins_ = abs32(target_q8_ - y_bin_q8_) < kSettleBandQ8 ? static_cast<uint8_t>(settled_bins_ + 1) : 0;
   if (settled_bins_ >= horizon_bins_ + 2) {
-    // Relay around the mean duty of the settled stretch; d for ±1.5 °C by the probe's model
-    // (in-flight rise per unit duty ≈ S·L̂ bounds the FOPDT excursion K·d·(1 − e^(−L/T))).
-    const uint8_t n = settled_bins_ > kRingBins - 1 ? kRingBins - 1 : settled_bins_;
-    bias_q16_ = clamp_duty(static_cast<int32_t>(ring_sum(n)) * 256 / n);
+    // Relay around the smoothed duty; d for ±1.5 °C by the probe's model (in-flight rise per
+    // unit duty ≈ S·L̂ bounds the FOPDT excursion K·d·(1 − e^(−L/T))).
+    bias_q16_ = clamp_duty(duty_avg_q16_);
     uint32_t d = fixed::mul_div_u32(kAmplitudeQ8, 65536, static_cast<uint32_t>(slope_q8_) * horizon_bins_);
     d_q16_ = static_cast<uint16_t>(d > kMaxDutyStepQ16 ? kMaxDutyStepQ16 : (d < kMinDutyStepQ16 ? kMinDutyStepQ16 : d));
     relay_hi_ = y_bin_q8_ < target_q8_;
@@ -383,6 +460,25 @@ void Autotune::approach_bin() {
   }
 }
 
+// A relay whose level no longer crosses the steady duty (the fan just came on, or the bias was
+// off) drifts away instead of switching. After twice the horizon plus the longest half-period so
+// far, move the bias by the drift: near the target ẏ = S·(u − ū), so ū = u − ẏ/S (+50 %).
+void Autotune::relay_bin() {
+  const uint32_t wait = static_cast<uint32_t>(horizon_ticks_) + 4 * kTicksPerBin;
+  if (half_ticks_ < wait || uint32_t{half_ticks_} - last_nudge_ < wait) return;
+  const int32_t s4 = (y_bin_q8_ - y_hist_q8_[3]) / 4;  // per bin
+  const bool away = relay_hi_ ? (s4 < 0 && y_bin_q8_ < target_q8_) : (s4 > 0 && y_bin_q8_ > target_q8_);
+  if (!away) return;
+  last_nudge_ = half_ticks_;
+  // Near the target ẏ = S·u − rise/T, so the steady duty there is ū = (u − ẏ/S)·rise_target/rise.
+  const int32_t level = relay_hi_ ? bias_q16_ + d_q16_ : bias_q16_ - d_q16_;
+  const int32_t shift = static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(abs32(s4)), 65536, static_cast<uint32_t>(slope_q8_)));
+  const int32_t u = relay_hi_ ? level + shift : level - shift;
+  const int32_t rise = y_bin_q8_ - ambient_q8_;
+  if (u <= 0 || rise <= kQ8) return;
+  bias_q16_ = clamp_duty(static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(u), static_cast<uint32_t>(target_q8_ - ambient_q8_), static_cast<uint32_t>(rise))));
+}
+
 void Autotune::set_levels() {
   if (d_q16_ > bias_q16_) d_q16_ = bias_q16_ < kMinDutyStepQ16 ? kMinDutyStepQ16 : bias_q16_;
   if (d_q16_ > kFull - bias_q16_) d_q16_ = static_cast<uint16_t>(kFull - bias_q16_);
@@ -390,6 +486,7 @@ void Autotune::set_levels() {
 
 void Autotune::relay_tick(int32_t yf, int32_t y) {
   ++half_ticks_;
+  if (half_ticks_ == 1) last_nudge_ = 0;
   cyc_sum_dev_ += y - target_q8_;  // |y − target| ≤ 25 °C·256 per tick (else too hot / failed)
   cyc_sum_duty_ += duty_q16_;      // ≤ 65535 per tick; ≤ 65,000 ticks per cycle
   const uint32_t limit = ticks_from_s(600);
@@ -402,6 +499,7 @@ void Autotune::relay_tick(int32_t yf, int32_t y) {
     if (yf > target_q8_ + kHysteresisQ8 && half_ticks_ >= kTicksPerBin) {
       sw_hi_q8_ = yf;
       t_hi_ = half_ticks_;
+      if (half_ticks_ > longest_half_) longest_half_ = half_ticks_;
       half_ticks_ = 0;
       relay_hi_ = false;
       cyc_max_q8_ = yf;
@@ -411,6 +509,7 @@ void Autotune::relay_tick(int32_t yf, int32_t y) {
     if (yf < target_q8_ - kHysteresisQ8 && half_ticks_ >= kTicksPerBin) {
       sw_lo_q8_ = yf;
       const uint16_t t_lo = half_ticks_;
+      if (half_ticks_ > longest_half_) longest_half_ = half_ticks_;
       half_ticks_ = 0;
       relay_hi_ = true;
       if (started_cycle_) end_cycle(t_lo);

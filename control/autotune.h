@@ -128,13 +128,17 @@ class Autotune {
   void probe_bin();
   void approach_bin();
   void start_probe();
+  void begin_approach(int32_t s, int32_t horizon_ticks, uint16_t inv_t_q16, uint8_t on_bins);
+  int32_t steady_from_model() const;
   void set_levels();
+  void relay_bin();
   void relay_tick(int32_t yf_q8, int32_t y_q8);
   void end_cycle(uint16_t t_lo);
   bool compute_chunk();      // one piece of the final arithmetic; true when done
   int32_t seconds_q8(uint32_t ticks) const;
   uint32_t ticks_from_s(uint16_t s) const;
-  uint16_t ring_sum(uint8_t bins) const;  // Σ duty (q8, 256 = 100 %) over the last `bins` bins
+  int32_t model_ago(uint8_t bins) const;
+  uint8_t duty_ago(uint8_t bins) const;  // the model state `bins` bins ago (°C×256 rise)
 
   // Configuration.
   uint16_t period_ms_ = 128;
@@ -162,8 +166,12 @@ class Autotune {
   int32_t y_prev_q8_ = 0;      // the one before
   int32_t y_prev2_q8_ = 0;
   uint16_t bins_ = 0;          // completed bins in this phase
-  uint8_t ring_[kRingBins] = {};  // mean duty per bin, 0..255 (255 ≈ 100 %)
+  int16_t ring_[kRingBins] = {};  // Smith predictor: model's undelayed rise per bin − offset, °C × 16
+  uint8_t duty_ring_[kRingBins] = {};  // mean duty per bin, 255 = 100 %
+  int32_t offset_q8_ = 0;
   uint8_t ring_head_ = 0;
+  uint16_t last_bin_duty_q8_ = 0;  // mean duty of the last bin, 256 = 100 %
+  int32_t y_hist_q8_[4] = {};      // bin means 1..4 bins ago (4-bin slope)
   int32_t yf_ring_[4] = {};    // last 4 readings (relay filter)
   uint8_t yf_head_ = 0;
 
@@ -186,6 +194,10 @@ class Autotune {
   int32_t dev_q8_ = 0, dev_prev_q8_ = 0, dev_prev2_q8_ = 0;
   int32_t slope_max_q8_ = 0;
   uint16_t slope_max_bin_ = 0;
+  int32_t slope_max_dev_q8_ = 0;  // deviation at the centre of the steepest window
+  bool continuous_ = false;
+  int32_t max_centre_tick_ = 0;
+  bool integrating_ = false;       // the probe went on into a steady heat-up (no cut)
   int32_t dev_off_q8_ = 0;     // deviation at the cut
   int32_t dev_peak_q8_ = 0;
   uint16_t peak_bin_ = 0;
@@ -202,12 +214,19 @@ class Autotune {
   uint8_t tau_bins_ = 0;        // closed-loop time constant of the approach
   int32_t steady_q16_ = 0;      // ū: steady duty estimate (integral part)
   uint8_t settled_bins_ = 0;
+  int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)
+  int32_t ref_rise_q8_ = 0;
+  int32_t ref_slope_q8_ = 0;     // loss learning: rise where the slope S was measured
+  uint8_t full_bins_ = 0;       // consecutive bins at 100 % in the approach
+  int32_t duty_avg_q16_ = 0;    // smoothed approach duty (relay bias)
 
   // Relay.
   bool relay_hi_ = false;
   uint16_t bias_q16_ = 0;
   uint16_t d_q16_ = 0;
   uint16_t half_ticks_ = 0;
+  uint16_t longest_half_ = 0;
+  uint16_t last_nudge_ = 0;
   uint16_t t_hi_ = 0;
   int32_t cyc_min_q8_ = 0, cyc_max_q8_ = 0;
   int32_t sw_hi_q8_ = 0, sw_lo_q8_ = 0;

@@ -93,6 +93,7 @@ struct TuneRun {
   double heatup_s = 0;  // full-power heat-up to the target from the same start
   control::AutotuneResult result{};
   int cycles = 0;
+  double approach_s = 0, relay_s = 0, fan_s = 0;  // when each began
 };
 
 // Time for 100 % duty to bring the plant from its start to the target.
@@ -125,6 +126,9 @@ TuneRun run(const Plant& p, uint8_t cycles = 3, bool fan = true, double noise = 
   for (int i = 0; i < 60000; ++i) {
     const double m = sim.measured_c();
     const control::AutotuneOutput out = at.step(static_cast<int32_t>(std::lround(m * 256)));
+    if (at.phase() == Autotune::Phase::kApproach && r.approach_s == 0) r.approach_s = sim.time_s() - t0;
+    if (at.phase() == Autotune::Phase::kRelay && r.relay_s == 0) r.relay_s = sim.time_s() - t0;
+    if (out.fan_duty > 0 && r.fan_s == 0) r.fan_s = sim.time_s() - t0;
     if (out.event == control::AutotuneEvent::kCycle || out.event == control::AutotuneEvent::kUltimate) ++r.cycles;
     if (trace && (i % 8 == 0 || out.event != control::AutotuneEvent::kNone)) {
       std::printf("%7.1f ph%d y %7.2f duty %5.3f fan %3d S %d L %d invT %d ev %d\n", sim.time_s() - t0,
@@ -165,10 +169,10 @@ TEST(Autotune, Table) {
   for (const Plant& p : plants()) {
     TuneRun r = run(p);
     const double budget = p.budget_s > 0 ? p.budget_s : r.heatup_s + 180;
-    std::printf("%-16s %6.1f %6.1f %6.2f %6d | %7.1f %7.1f | %6.1f %6.1f | %6.2f %6.2f | %5.1f %5.1f | %5.2f %s%s\n", p.name.c_str(),
+    std::printf("%-16s %6.1f %6.1f %6.2f %6d | %7.1f %7.1f | %6.1f %6.1f | %6.2f %6.2f | %5.1f %5.1f | %5.2f | %5.0f %5.0f %5.0f %s%s\n", p.name.c_str(),
                 r.duration_s, budget, r.max_c - p.target_c, r.cycles, q8(r.result.model.rise_q8), p.k,
                 q8(r.result.model.time_constant_q8), p.t, q8(r.result.model.dead_time_q8), p.l,
-                q8(r.result.model.fan_loss_pct_q8), fan_pct(p.model, p.k), p.lag,
+                q8(r.result.model.fan_loss_pct_q8), fan_pct(p.model, p.k), p.lag, r.approach_s, r.relay_s, r.fan_s,
                 r.state == AutotuneState::kFinished ? "" : " FAILED ", r.state == AutotuneState::kFinished ? "" : std::to_string(static_cast<int>(r.failure)).c_str());
   }
 }

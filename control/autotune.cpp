@@ -1,11 +1,15 @@
 // The M303 identification engine (see autotune.h for the phases). Units: temperatures temp_q8
 // (°C × 256), duties duty_q16 (65535 = 100 %) or "q8 duty" (256 = 100 %) in the bin history,
-// time in ticks (control periods) and bins (kTicksPerBin ticks). Per-step cost (AVR, estimates
-// from the operation counts; every 32-bit division ≈ 600 cycles, 16×16 multiply ≈ 10):
-//   every tick: bin and filter accumulation, the relay's compares  ≈ 150 cycles
-//   bin ticks (1 in 8): the phase's slow logic — at most one 32-bit division plus a ring sum of
-//                       ≤ 64 bytes                                  ≤ 1,000 cycles
-//   compute: one stored cycle per step (two ln, two mul_div_u32)  ≈ 3,000 cycles, ≤ 12 steps
+// time in ticks (control periods) and bins (kTicksPerBin ticks). Per-step cost on AVR, estimated
+// from the operation counts (not measured; 32-bit division ≈ 600 cycles, mul_div_u32 ≈ 1,300,
+// log2_q16 ≈ 700, mul_q16 ≈ 60):
+//   7 ticks in 8: bin and filter accumulation, the relay's compares      ≈ 200 cycles
+//   bin ticks: model update + loss learning (one division) + the
+//              approach law (one division)                                ≈ 2,000 cycles
+//   once, probe → approach: the model history (≤ 62 mul_q16)              ≈ 5,000 cycles
+//   compute, ≤ 9 steps: one stored cycle each (3 ln, 3 mul_div_u32)       ≈ 8,000 cycles
+// The last three are over the 1,000-cycle aim: split them over more ticks before the firmware
+// calls this from its timer-driven step (see the report on the autotune branch).
 #include "control/autotune.h"
 
 #include "control/fixed.h"
@@ -20,7 +24,7 @@ constexpr int32_t kHeadroomQ8 = 12 * kQ8;       // the probe starts at least thi
 constexpr int32_t kHotQ8 = 15 * kQ8;            // "hot start": this far above ambient
 constexpr int32_t kCoolDropQ8 = 3 * kQ8;        // a hot start waits for this much visible decay
 constexpr int32_t kAssumedSlopeQ8PerS = 20 * kQ8;  // worst-case heating rate for the first pulse
-constexpr int32_t kSettleBandQ8 = kQ8 * 2 / 5;  // |target − reading| for the relay to start
+constexpr int32_t kSettleBandQ8 = kQ8 / 2;  // |target − reading| for the relay to start
 constexpr int32_t kAmplitudeQ8 = kQ8 * 3 / 2;   // relay half amplitude aimed at
 constexpr int32_t kHysteresisQ8 = kQ8 / 5;      // relay switches at target ± 0.2 °C (filtered)
 constexpr uint16_t kMinDutyStepQ16 = 328;       // d ≥ 0.5 %
@@ -54,7 +58,9 @@ uint32_t Autotune::ticks_from_s(uint16_t s) const { return uint32_t{s} * 1000u /
 // fit for the longest timeouts, so divide first by 1000/8 and then shift: ticks·ms·256/1000 =
 // ticks·ms·32/125.
 int32_t Autotune::seconds_q8(uint32_t ticks) const {
-  return static_cast<int32_t>(fixed::mul_div_u32(ticks * period_ms_, 32, 125));
+  const uint32_t ms = ticks * period_ms_;
+  // ms·32 < 2^32 up to 37 h; beyond that (never in practice) the long way.
+  return static_cast<int32_t>(ms < (uint32_t{1} << 27) ? (ms * 32 + 62) / 125 : fixed::mul_div_u32(ms, 32, 125));
 }
 
 bool Autotune::start(int32_t target_q8, uint8_t cycles, bool measure_fan, int32_t ambient_q8) {
@@ -179,11 +185,6 @@ AutotuneOutput Autotune::step(int32_t y) {
     y_prev_q8_ = y_bin_q8_;
     y_bin_q8_ = (bin_sum_q8_ + kTicksPerBin / 2) / kTicksPerBin;
     last_bin_duty_q8_ = static_cast<uint16_t>((bin_duty_sum_ + kTicksPerBin / 2) / kTicksPerBin);
-    if (phase_ != Phase::kApproach) {  // the approach writes both rings itself
-      duty_ring_[ring_head_] = static_cast<uint8_t>(last_bin_duty_q8_ > 255 ? 255 : last_bin_duty_q8_);
-      ring_[ring_head_] = 0;
-      ring_head_ = static_cast<uint8_t>((ring_head_ + 1) % kRingBins);
-    }
     y_hist_q8_[3] = y_hist_q8_[2];
     y_hist_q8_[2] = y_hist_q8_[1];
     y_hist_q8_[1] = y_hist_q8_[0];
@@ -192,6 +193,13 @@ AutotuneOutput Autotune::step(int32_t y) {
     bin_duty_sum_ = 0;
     bin_ticks_ = 0;
     ++bins_;
+    if (phase_ == Phase::kApproach || phase_ == Phase::kRelay) {
+      model_bin();
+    } else {
+      duty_ring_[ring_head_] = static_cast<uint8_t>(last_bin_duty_q8_ > 255 ? 255 : last_bin_duty_q8_);
+      ring_[ring_head_] = 0;
+      ring_head_ = static_cast<uint8_t>((ring_head_ + 1) % kRingBins);
+    }
     if (state_ == AutotuneState::kRunning) on_bin();
   }
   return {duty_q16_, fan_, state_, failure_, event_};
@@ -301,6 +309,7 @@ void Autotune::probe_bin() {
       continuous_ = true;
       const int32_t s = slope_max_q8_;
       int32_t l = max_centre_tick_ - slope_max_dev_q8_ * kTicksPerBin / s;  // tangent: L = t − rise/S
+      slope_rise_q8_ = slope_max_dev_q8_ + base_rise_q8_;
       begin_approach(s, l, 0, static_cast<uint8_t>(on_ticks_ / kTicksPerBin));
     }
     return;
@@ -363,7 +372,7 @@ void Autotune::begin_approach(int32_t s, int32_t horizon_ticks, uint16_t inv_t_q
   uint32_t hb = static_cast<uint32_t>(horizon_ticks + kTicksPerBin - 1) / kTicksPerBin + 1;
   horizon_bins_ = static_cast<uint8_t>(hb > kRingBins - 2 ? kRingBins - 2 : hb);
   // Approach: closed-loop time constant = the horizon (≥ 3 bins); P gain 1/(S·τ).
-  tau_bins_ = horizon_bins_ < 3 ? 3 : horizon_bins_;
+  tau_bins_ = static_cast<uint8_t>(horizon_bins_ < 3 ? 3 : horizon_bins_ + horizon_bins_ / 4);
   const uint32_t g = (uint32_t{1} << 24) / (static_cast<uint32_t>(s) * tau_bins_);
   gain_q8_ = static_cast<int32_t>(g > 40000 ? 40000 : g);
   // ū = loss at the target / S (0 while the loss is unknown: learnt during the heat-up).
@@ -392,8 +401,51 @@ void Autotune::begin_approach(int32_t s, int32_t horizon_ticks, uint16_t inv_t_q
 
 int32_t Autotune::steady_from_model() const {
   const uint32_t loss = static_cast<uint32_t>(fixed::mul_q16(target_q8_ - ambient_q8_, inv_t_q16_));
-  const uint32_t u = fixed::mul_div_u32(loss, 65536, static_cast<uint32_t>(slope_q8_));
+  // loss ≤ 2^14 (°C/bin × 256, clamped): × 2^16 < 2^31; one 32-bit division.
+  const uint32_t u = ((loss > 16383 ? 16383 : loss) << 16) / static_cast<uint32_t>(slope_q8_);
   return static_cast<int32_t>(u > kFull ? kFull : u);
+}
+
+// Every bin of the approach and the relay: the Smith predictor's model, anchored to the reading,
+// and the loss learning (see approach_bin for how they are used).
+void Autotune::model_bin() {
+  // Smith predictor: model x' = S·u − x/T (undelayed); prediction = reading + x(now) − x(now − L̂),
+  // the heat in flight. The model is anchored to the reading (its delayed state pulled towards
+  // it, a quarter per bin, by shifting the whole history through offset_q8_), so its loss term
+  // works on the real temperature.
+  model_q8_ += static_cast<int32_t>((static_cast<uint32_t>(slope_q8_) * last_bin_duty_q8_ + 128) >> 8) -
+               fixed::mul_q16(model_q8_, inv_t_q16_);
+  model_q8_ = fixed::clamp(model_q8_, int32_t{-30000} * 16, int32_t{30000} * 16);
+  ring_[ring_head_] = static_cast<int16_t>(fixed::clamp((model_q8_ - offset_q8_) / 16, int32_t{-32000}, int32_t{32000}));
+  duty_ring_[ring_head_] = static_cast<uint8_t>(last_bin_duty_q8_ > 255 ? 255 : last_bin_duty_q8_);
+  ring_head_ = static_cast<uint8_t>((ring_head_ + 1) % kRingBins);
+  // Bins the duty has stayed within ±8 % of where this stretch began.
+  if (abs32(static_cast<int32_t>(last_bin_duty_q8_) - steady_ref_) < 20) {
+    if (steady_bins_ < 250) ++steady_bins_;
+  } else {
+    steady_ref_ = static_cast<int16_t>(last_bin_duty_q8_);
+    steady_bins_ = 0;
+  }
+  const int32_t rise = y_bin_q8_ - ambient_q8_;
+  const int32_t anchor = (rise - model_ago(horizon_bins_)) / 4;
+  offset_q8_ += anchor;
+  model_q8_ += anchor;
+  // Loss learning near the target, where the heater is not at full power: the model's slope
+  // S·u(t − L̂) − x/T against the reading's 4-bin slope; the error moves 1/T by ⅛ per bin. This
+  // keeps the model's steady state on the real one, so the predictor holds the target exactly.
+  // Only in the approach, and while the duty has been steady (within 8 %) over L̂ + 6 bins: in
+  // transients a dead time that is off by a bin would pass for a loss error.
+  if (phase_ != Phase::kApproach) return;
+  if (full_bins_ == 0 && rise > 20 * kQ8 && steady_bins_ >= horizon_bins_ + 6) {
+    const int32_t s4 = (y_bin_q8_ - y_hist_q8_[3]) / 4;
+    const int32_t centre = rise - 2 * s4;
+    const int32_t model_slope = static_cast<int32_t>((static_cast<uint32_t>(slope_q8_) * duty_ago(horizon_bins_ + 2) + 128) >> 8) -
+                                fixed::mul_q16(centre, inv_t_q16_);
+    const int32_t err = model_slope - s4;  // > 0: more loss than the model has
+    // |err| ≤ 2^18 (clamped) × 2^13 < 2^31.
+    const int32_t step = static_cast<int32_t>(static_cast<uint32_t>(abs32(err) > 262143 ? 262143 : abs32(err)) * 8192u / static_cast<uint32_t>(centre));
+    inv_t_q16_ = static_cast<uint16_t>(fixed::clamp(static_cast<int32_t>(inv_t_q16_) + (err > 0 ? step : -step), int32_t{0}, int32_t{16384}));
+  }
 }
 
 void Autotune::approach_bin() {
@@ -409,34 +461,11 @@ void Autotune::approach_bin() {
       ref_slope_q8_ = s4 > 0 ? s4 : 1;
       ref_rise_q8_ = at;
     } else if (at - ref_rise_q8_ > 40 * kQ8 && s4 < ref_slope_q8_) {
-      const uint32_t inv_t = fixed::mul_div_u32(static_cast<uint32_t>(ref_slope_q8_ - s4), 65536, static_cast<uint32_t>(at - ref_rise_q8_));
+      // ref_slope − s4 ≤ a full-power slope per bin (< 2^15 for < 128 °C/s) × 2^16 < 2^31.
+      const uint32_t ds = static_cast<uint32_t>(ref_slope_q8_ - s4);
+      const uint32_t inv_t = ((ds > 32767 ? 32767 : ds) << 16) / static_cast<uint32_t>(at - ref_rise_q8_);
       inv_t_q16_ = static_cast<uint16_t>(inv_t > 16384 ? 16384 : inv_t);
     }
-  }
-  // Smith predictor: model x' = S·u − x/T (undelayed); prediction = reading + x(now) − x(now − L̂),
-  // the heat in flight. The model is anchored to the reading (its delayed state pulled towards
-  // it, a quarter per bin, by shifting the whole history through offset_q8_), so its loss term
-  // works on the real temperature.
-  model_q8_ += static_cast<int32_t>((static_cast<uint32_t>(slope_q8_) * last_bin_duty_q8_ + 128) >> 8) -
-               fixed::mul_q16(model_q8_, inv_t_q16_);
-  model_q8_ = fixed::clamp(model_q8_, int32_t{-30000} * 16, int32_t{30000} * 16);
-  ring_[ring_head_] = static_cast<int16_t>(fixed::clamp((model_q8_ - offset_q8_) / 16, int32_t{-32000}, int32_t{32000}));
-  duty_ring_[ring_head_] = static_cast<uint8_t>(last_bin_duty_q8_ > 255 ? 255 : last_bin_duty_q8_);
-  ring_head_ = static_cast<uint8_t>((ring_head_ + 1) % kRingBins);
-  const int32_t anchor = (rise - model_ago(horizon_bins_)) / 4;
-  offset_q8_ += anchor;
-  model_q8_ += anchor;
-  // Loss learning near the target, where the heater is not at full power: the model's slope
-  // S·u(t − L̂) − x/T against the reading's 4-bin slope; the error moves 1/T by ⅛ per bin. This
-  // keeps the model's steady state on the real one, so the predictor holds the target exactly.
-  if (full_bins_ == 0 && rise > 20 * kQ8) {
-    const int32_t s4 = (y_bin_q8_ - y_hist_q8_[3]) / 4;
-    const int32_t centre = rise - 2 * s4;
-    const int32_t model_slope = static_cast<int32_t>((static_cast<uint32_t>(slope_q8_) * duty_ago(horizon_bins_ + 2) + 128) >> 8) -
-                                fixed::mul_q16(centre, inv_t_q16_);
-    const int32_t err = model_slope - s4;  // > 0: more loss than the model has
-    const int32_t step = static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(abs32(err)), 8192, static_cast<uint32_t>(centre)));
-    inv_t_q16_ = static_cast<uint16_t>(fixed::clamp(static_cast<int32_t>(inv_t_q16_) + (err > 0 ? step : -step), int32_t{0}, int32_t{16384}));
   }
   steady_q16_ = steady_from_model();
   const int32_t predicted = y_bin_q8_ + model_ago(0) - model_ago(horizon_bins_);
@@ -445,7 +474,16 @@ void Autotune::approach_bin() {
   duty_q16_ = clamp_duty(u);
   duty_avg_q16_ += (static_cast<int32_t>(duty_q16_) - duty_avg_q16_) / 4;
   settled_bins_ = abs32(target_q8_ - y_bin_q8_) < kSettleBandQ8 ? static_cast<uint8_t>(settled_bins_ + 1) : 0;
-  if (settled_bins_ >= horizon_bins_ + 2) {
+  // Crossings of the target (±0.3 °C): a slow hotend that the approach leaves swinging around it
+  // goes to the relay at the second crossing, whose bias adaptation takes over.
+  const int8_t side = y_bin_q8_ > target_q8_ + kQ8 * 3 / 10 ? 1 : (y_bin_q8_ < target_q8_ - kQ8 * 3 / 10 ? -1 : 0);
+  if (side != 0 && side != side_) {
+    if (side_ != 0) ++crossings_;
+    side_ = side;
+  }
+  if (settled_bins_ >= horizon_bins_ + 2 || crossings_ >= 2) {
+    crossings_ = 0;
+    side_ = 0;
     // Relay around the smoothed duty; d for ±1.5 °C by the probe's model (in-flight rise per
     // unit duty ≈ S·L̂ bounds the FOPDT excursion K·d·(1 − e^(−L/T))).
     bias_q16_ = clamp_duty(duty_avg_q16_);
@@ -455,7 +493,7 @@ void Autotune::approach_bin() {
     half_ticks_ = 0;
     started_cycle_ = false;
     cycle_index_ = 0;
-    fan_part_ = false;
+    fan_part_ = fan_pending_;
     enter(Phase::kRelay);
   }
 }
@@ -464,7 +502,8 @@ void Autotune::approach_bin() {
 // off) drifts away instead of switching. After twice the horizon plus the longest half-period so
 // far, move the bias by the drift: near the target ẏ = S·(u − ū), so ū = u − ẏ/S (+50 %).
 void Autotune::relay_bin() {
-  const uint32_t wait = static_cast<uint32_t>(horizon_ticks_) + 4 * kTicksPerBin;
+  uint32_t wait = static_cast<uint32_t>(horizon_ticks_) + 4 * kTicksPerBin;
+  if (wait < longest_half_) wait = longest_half_;  // a slow hotend's halves are long anyway
   if (half_ticks_ < wait || uint32_t{half_ticks_} - last_nudge_ < wait) return;
   const int32_t s4 = (y_bin_q8_ - y_hist_q8_[3]) / 4;  // per bin
   const bool away = relay_hi_ ? (s4 < 0 && y_bin_q8_ < target_q8_) : (s4 > 0 && y_bin_q8_ > target_q8_);
@@ -472,11 +511,19 @@ void Autotune::relay_bin() {
   last_nudge_ = half_ticks_;
   // Near the target ẏ = S·u − rise/T, so the steady duty there is ū = (u − ẏ/S)·rise_target/rise.
   const int32_t level = relay_hi_ ? bias_q16_ + d_q16_ : bias_q16_ - d_q16_;
-  const int32_t shift = static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(abs32(s4)), 65536, static_cast<uint32_t>(slope_q8_)));
+  const uint32_t ds = static_cast<uint32_t>(abs32(s4));
+  const int32_t shift = static_cast<int32_t>(((ds > 32767 ? 32767 : ds) << 16) / static_cast<uint32_t>(slope_q8_));
   const int32_t u = relay_hi_ ? level + shift : level - shift;
   const int32_t rise = y_bin_q8_ - ambient_q8_;
   if (u <= 0 || rise <= kQ8) return;
-  bias_q16_ = clamp_duty(static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(u), static_cast<uint32_t>(target_q8_ - ambient_q8_), static_cast<uint32_t>(rise))));
+  // u · (rise_target/rise): the ratio in Q8 (≤ 2^10 for rise ≥ ¼ of the target's), u < 2^17.
+  uint32_t ratio_q8 = static_cast<uint32_t>(target_q8_ - ambient_q8_) * 256u / static_cast<uint32_t>(rise);
+  if (ratio_q8 > 1024) ratio_q8 = 1024;
+  const int32_t estimate = static_cast<int32_t>((static_cast<uint32_t>(u > 131071 ? 131071 : u) * ratio_q8) >> 8);
+  // At most 2·d per nudge: on a hotend slower than its probe showed, the drift is not yet the
+  // steady one, and large moves would build up a swing.
+  const int32_t limit = 2 * static_cast<int32_t>(d_q16_);
+  bias_q16_ = clamp_duty(fixed::clamp(estimate, static_cast<int32_t>(bias_q16_) - limit, static_cast<int32_t>(bias_q16_) + limit));
 }
 
 void Autotune::set_levels() {
@@ -565,15 +612,19 @@ void Autotune::end_cycle(uint16_t t_lo) {
   // Adapt: bias = the cycle's mean duty (centres the oscillation), d towards ±1.5 °C.
   const uint32_t mean = cyc_sum_duty_ / (period > 0 ? period : 1);
   bias_q16_ = static_cast<uint16_t>(mean > kFull ? kFull : mean);
-  uint32_t d = fixed::mul_div_u32(d_q16_, kAmplitudeQ8, static_cast<uint32_t>(a_q8));
+  uint32_t d = uint32_t{d_q16_} * kAmplitudeQ8 / static_cast<uint32_t>(a_q8);  // ≤ 2^16 · 384 < 2^25
   if (d > 2u * d_q16_) d = 2u * d_q16_;
   if (d < d_q16_ / 2u) d = d_q16_ / 2u;
   d_q16_ = static_cast<uint16_t>(d > kMaxDutyStepQ16 ? kMaxDutyStepQ16 : (d < kMinDutyStepQ16 ? kMinDutyStepQ16 : d));
   if (cycle_index_ >= skip + measure) {
     if (!fan_part_ && measure_fan_) {
-      fan_part_ = true;
+      // The fan's extra loss is a large step disturbance (tens of °C on a fast hotend): let the
+      // approach controller ride it out and re-learn the loss, then relay again with the fan.
       fan_ = 255;
-      cycle_index_ = 0;
+      fan_pending_ = true;
+      settled_bins_ = 0;
+      full_bins_ = 0;
+      enter(Phase::kApproach);
     } else {
       fan_ = 0;
       compute_step_ = 0;
@@ -592,6 +643,7 @@ bool Autotune::compute_chunk() {
     k_q8_ = mean_duty_q12 > 0 ? static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(mean_rise), 4096, mean_duty_q12))
                               : 0;
     t_sum_q8_ = l_sum_q8_ = 0;
+    lambda_sum_q16_ = 0;
     tl_count_ = 0;
     ++compute_step_;
     return false;
@@ -620,8 +672,10 @@ bool Autotune::compute_chunk() {
     const int32_t period_q8 = seconds_q8(uint32_t{c.t_hi} + c.t_lo);
     const int32_t t_q8 = static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(period_q8), 65536, static_cast<uint32_t>(sum)));
     int32_t l_q8 = static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(t_q8), static_cast<uint32_t>(lambda), 65536));
-    l_q8 -= seconds_q8(3) / 2;  // the 4-reading filter's 1.5-period delay is not the plant's
+    // Not corrected for the relay filter's 1.5-period delay: the filter also rounds the peaks
+    // off (a smaller amplitude reads as a shorter L), and the two nearly cancel (measured).
     t_sum_q8_ += t_q8;
+    lambda_sum_q16_ += lambda;
     l_sum_q8_ += l_q8 > 0 ? l_q8 : 0;
     ++tl_count_;
     return false;
@@ -639,6 +693,19 @@ bool Autotune::compute_chunk() {
   result_.model.rise_q8 = k_q8_;
   result_.model.time_constant_q8 = tl_count_ > 0 ? t_sum_q8_ / tl_count_ : 0;
   result_.model.dead_time_q8 = tl_count_ > 0 ? l_sum_q8_ / tl_count_ : 0;
+  if (continuous_ && k_q8_ > slope_rise_q8_) {
+    // A lag-type hotend (its response started within the first pulse and steepened smoothly):
+    // the relay's FOPDT formulas misread a lag as a long time constant. T from the heat-up
+    // instead: the steepest slope S = (K − rise there)/T. L then from the relay's amplitude,
+    // θ = e^(−L/T) (mean of the cycles' λ = L/T).
+    const int32_t t_q8 = static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(k_q8_ - slope_rise_q8_),
+                                                                 static_cast<uint32_t>(seconds_q8(kTicksPerBin)),
+                                                                 static_cast<uint32_t>(slope_q8_)));
+    result_.model.time_constant_q8 = t_q8;
+    result_.model.dead_time_q8 = tl_count_ > 0 ? static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(t_q8),
+                                                   static_cast<uint32_t>(lambda_sum_q16_ / tl_count_), 65536)) : 0;
+    if (result_.model.dead_time_q8 < 0) result_.model.dead_time_q8 = 0;
+  }
   result_.model.fan_loss_pct_q8 = f_q8;
   result_.sensor_lag_q8 = 0;
   result_.ultimate.ku_q8 = ku_count_ > 0 ? static_cast<int32_t>(ku_sum_q8_ / ku_count_) : 0;

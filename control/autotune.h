@@ -2,19 +2,25 @@
 // that heats the hotend, approaches the target without overshoot, runs a biased relay
 // oscillation around it (without and with the part fan) and identifies the M307 model
 // (static gain, time constant, dead time, fan loss) plus Marlin's Ku/Tu. Integer-only,
-// portable (AVR and host), no heap; per-step work is a few hundred AVR cycles (see autotune.cpp).
+// portable (AVR and host), no heap; per-step cost estimates in autotune.cpp.
 //
 // Phases:
 //   cool      heater off while too hot (or until a hot hotend visibly decays: its baseline)
 //   baseline  heater off, 3 s: start temperature, its drift (decay rate when hot), ambient
-//   probe     an energy-limited full-power pulse, then heater off until the response peaks and
-//             starts to decay: gives the slope per unit duty S, the "cut-to-peak" horizon L̂ and
-//             the loss rate 1/T — enough for a safe model-predictive approach
-//   approach  Smith-predictor P+I on the predicted temperature (FOPDT S, L̂, 1/T) to the target
-//   relay     biased relay (levels bias ± d, hysteresis ±ε) around the target; bias and d adapted
-//             per cycle (symmetric oscillation of ~1.5 °C); then the same with the part fan at 100 %
+//   probe     full power, at most as long as a 20 °C/s hotend could take without reaching the
+//             target, then either (lag-type hotend: response seen and steepening) heat on until
+//             the slope is steady — S and the tangent's dead time — or heater off until the
+//             response peaks and decays: S, the cut-to-peak time L̂ (the FOPDT's dead time) and
+//             the loss rate 1/T
+//   approach  Smith predictor (FOPDT model S, L̂, 1/T, anchored to the reading) with a P law
+//             around the model's steady duty; 1/T learnt on line (slope decline at full power,
+//             model-vs-reading slope when the duty is steady); then the fan part starts here too
+//   relay     biased relay (levels bias ± d, hysteresis ±0.2 °C on a 4-reading mean) around the
+//             target; bias = last cycle's mean duty, d for ±1.5 °C, a drifting relay re-biased
+//             from its drift; then (approach again with the part fan at 100 %) the same with fan
 //   compute   K from mean temperature / mean duty; T and L from the relay's asymmetric-FOPDT
-//             formulas; F from the fan cycles' mean duty; a few cycles' worth of steps
+//             formulas (lag-type hotends: T from the heat-up slope, L from the relay amplitude);
+//             F from the fan cycles' mean duty; one stored cycle per step
 #pragma once
 
 #include <stdint.h>
@@ -127,6 +133,7 @@ class Autotune {
   void on_bin();             // every kTicksPerBin ticks: the slow logic of the current phase
   void probe_bin();
   void approach_bin();
+  void model_bin();
   void start_probe();
   void begin_approach(int32_t s, int32_t horizon_ticks, uint16_t inv_t_q16, uint8_t on_bins);
   int32_t steady_from_model() const;
@@ -234,6 +241,7 @@ class Autotune {
   uint32_t cyc_sum_duty_ = 0;   // Σ duty q16 over the cycle's ticks
   uint8_t cycle_index_ = 0;     // completed cycles in the current (fan or no-fan) part
   bool fan_part_ = false;
+  bool fan_pending_ = false;     // the fan is on: the next relay is the fan part
   uint8_t nofan_measure_ = 0, fan_skip_ = 0, fan_measure_ = 0;
   bool started_cycle_ = false;
   // Sums over measured cycles: [0] no fan, [1] fan.
@@ -250,6 +258,12 @@ class Autotune {
   int32_t k_q8_ = 0;            // K: °C × 256 per unit duty
   int32_t t_sum_q8_ = 0, l_sum_q8_ = 0;
   uint8_t tl_count_ = 0;
+  int32_t lambda_sum_q16_ = 0;
+  int32_t slope_rise_q8_ = 0;   // rise at the centre of the steepest heat-up window
+  uint8_t crossings_ = 0;
+  uint8_t steady_bins_ = 0;     // bins the duty has stayed near steady_ref_
+  int16_t steady_ref_ = 0;
+  int8_t side_ = 0;
 
   AutotuneCycle cycle_{0, 0, 0, 0};
   AutotuneUltimate ultimate_{0, 0};

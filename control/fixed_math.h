@@ -14,7 +14,7 @@ constexpr uint32_t kLog2eQ16 = 94548;  // log2 e · 2^16
 
 // log2(x) · 2^16 for x ≥ 1 (0 for x = 0, which has no logarithm: callers exclude it).
 // Integer part = index of the top bit; fraction bit by bit by squaring the mantissa m ∈ [1, 2)
-// held in Q15 (m² < 2^32). Worst error ≈ 3 units of 2^-16 (see the test).
+// held in Q15 (m² < 2^32). Worst error 4.3 units of 2^-16 (x ≥ 2^16 loses its low bits; test).
 inline int32_t log2_q16(uint32_t x) {
   if (x == 0) return 0;
   int32_t result = 0;
@@ -24,9 +24,10 @@ inline int32_t log2_q16(uint32_t x) {
   while (m >= (uint32_t{1} << 16)) { m >>= 1; ++e; }
   while (m < (uint32_t{1} << 15)) { m <<= 1; --e; }
   // The shift above truncated low bits of x when e > 15; fine for 15-bit mantissa precision.
-  result = static_cast<int32_t>(e - 15) * 65536;
+  result = static_cast<int32_t>(e + 15) * 65536;  // x = m·2^e, log2 m ∈ [15, 16)
   for (uint8_t bit = 0; bit < 16; ++bit) {
-    m = (m * m + (uint32_t{1} << 14)) >> 15;  // m < 2^16 → m² < 2^32; result in [2^15, 2^17)
+    // m < 2^16 → m² < 2^32 (a 16×16 multiply on AVR); result in [2^15, 2^17).
+    m = (static_cast<uint32_t>(static_cast<uint16_t>(m)) * static_cast<uint16_t>(m) + (uint32_t{1} << 14)) >> 15;
     if (m >= (uint32_t{1} << 16)) {
       m = (m + 1) >> 1;
       result += int32_t{1} << (15 - bit);
@@ -35,9 +36,8 @@ inline int32_t log2_q16(uint32_t x) {
   return result;
 }
 
-// ln(num / den) · 2^16 for num, den ≥ 1: (log2 num − log2 den) · ln 2. The difference is within
-// ±32·2^16, so the product with ln 2 (< 2^16) stays within ±2^37 / 2^16... computed as
-// (d · 45426) with |d| ≤ 2^21 → |product| ≤ 2^37: split to stay in 32 bits.
+// ln(num / den) · 2^16 for num, den ≥ 1: (log2 num − log2 den) · ln 2. |d| ≤ 32·2^16 = 2^21, so
+// d · 45426 needs 37 bits: split into the whole and fraction parts of d, each product < 2^32.
 inline int32_t ln_ratio_q16(uint32_t num, uint32_t den) {
   const int32_t d = log2_q16(num) - log2_q16(den);  // |d| ≤ 32 · 2^16 = 2^21
   const bool neg = d < 0;
@@ -49,7 +49,7 @@ inline int32_t ln_ratio_q16(uint32_t num, uint32_t den) {
 
 // e^(−x) · 2^16 for x_q16 ≥ 0 (x in Q16), rounded; 0 once it is below 2^-16·½ (x > 11.1).
 // e^(−x) = 2^(−y), y = x·log2 e: whole part of y a shift, fraction bit by bit from the table
-// 2^(−2^−i) (Q16). Worst error ≈ 4 units of 2^-16 (see the test).
+// 2^(−2^−i) (Q16). Worst error 2.9 units of 2^-16 (see the test).
 inline uint32_t exp_neg_q16(uint32_t x_q16) {
   static constexpr uint16_t kHalvings[16] = {46341, 55109, 60097, 62757, 64132, 64830, 65182, 65359,
                                              65447, 65492, 65514, 65525, 65530, 65533, 65535, 65535};

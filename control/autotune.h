@@ -1,0 +1,273 @@
+// On-board identification for M303 (issue 7): a state machine stepped once per control period
+// that heats the hotend, approaches the target without overshoot, runs a biased relay
+// oscillation around it (without and with the part fan) and identifies the M307 model
+// (static gain, time constant, dead time, fan loss) plus Marlin's Ku/Tu. Integer-only,
+// portable (AVR and host), no heap; per-step cost estimates in autotune.cpp.
+//
+// Phases:
+//   cool      heater off while too hot (or until a hot hotend visibly decays: its baseline)
+//   baseline  heater off, 3 s: start temperature, its drift (decay rate when hot), ambient
+//   probe     full power, at most as long as a 20 °C/s hotend could take without reaching the
+//             target, then either (lag-type hotend: response seen and steepening) heat on until
+//             the slope is steady — S and the tangent's dead time — or heater off until the
+//             response peaks and decays: S, the cut-to-peak time L̂ (the FOPDT's dead time) and
+//             the loss rate 1/T
+//   approach  Smith predictor (FOPDT model S, L̂, 1/T, anchored to the reading) with a P law
+//             around the model's steady duty; 1/T learnt on line (slope decline at full power,
+//             model-vs-reading slope when the duty is steady); then the fan part starts here too
+//   relay     biased relay (levels bias ± d, hysteresis ±0.2 °C on a 4-reading mean) around the
+//             target; bias = last cycle's mean duty, d for ±1.5 °C, a drifting relay re-biased
+//             from its drift; then (approach again with the part fan at 100 %) the same with fan
+//   compute   K from mean temperature / mean duty; T and L from the relay's asymmetric-FOPDT
+//             formulas (lag-type hotends: T from the heat-up slope, L from the relay amplitude);
+//             F from the fan cycles' mean duty; one stored cycle per step
+#pragma once
+
+#include <stdint.h>
+
+#include "control/feedforward.h"
+
+namespace control {
+
+enum class AutotuneState : uint8_t { kIdle, kRunning, kFinished, kFailed };
+
+enum class AutotuneFailure : uint8_t {
+  kNone,
+  kBadParameters,   // start() refused its arguments
+  kTooHot,          // a reading above target + 25 °C: heater off at once
+  kTimeout,         // longer than the time limit
+  kNoHeating,       // full-power pulses raised the temperature by less than 0.5 °C
+  kNoOscillation,   // the relay stopped switching (no crossing for far longer than expected)
+  kAborted,         // abort()
+};
+
+// What a step produced besides the duty, for the G-code layer to print.
+enum class AutotuneEvent : uint8_t {
+  kNone,
+  kCycle,     // a relay cycle completed: cycle() holds Marlin's " bias: d: min: max:" values
+  kUltimate,  // after a cycle from the second on: ultimate() holds " Ku: Tu:"
+  kResult,    // finished: result() holds the model
+};
+
+struct AutotuneOutput {
+  uint16_t duty_q16;  // heater duty for the next period, 65535 = 100 %
+  uint8_t fan_duty;   // part fan 0..255
+  AutotuneState state;
+  AutotuneFailure failure;
+  AutotuneEvent event;
+};
+
+// One relay cycle as Marlin prints it: levels on the 0..255 scale, extremes in °C × 256.
+struct AutotuneCycle {
+  uint8_t bias;  // middle of the relay levels
+  uint8_t d;     // half their difference
+  int32_t min_q8;
+  int32_t max_q8;
+};
+
+// Åström–Hägglund from the last cycle: Ku = 4d/(π·a) (0..255 output per °C), Tu = period.
+struct AutotuneUltimate {
+  int32_t ku_q8;
+  int32_t tu_q8;  // s × 256
+};
+
+struct AutotuneResult {
+  HotendModel model;        // M307 A C D F
+  int32_t sensor_lag_q8;    // second lag (s × 256), 0 when not identified
+  AutotuneUltimate ultimate;  // averaged over the measured no-fan cycles
+  int32_t ambient_q8;       // the ambient A is counted from
+  bool hot_start;           // true when the tune started above ambient + 15 °C
+};
+
+class Autotune {
+ public:
+  static constexpr int32_t kMeasureAmbient = INT32_MIN;  // start(): take the cold reading
+  static constexpr int32_t kDefaultAmbientQ8 = 25L * 256;
+  static constexpr int32_t kTooHotMarginQ8 = 25L * 256;
+  static constexpr uint8_t kMinCycles = 3;
+  static constexpr uint8_t kMaxCycles = 20;
+  static constexpr uint8_t kMaxStoredCycles = 8;  // cycles kept for the T/L fit (the last ones)
+  static constexpr uint8_t kRingBins = 64;        // duty history: ≥ the longest horizon, in bins
+  static constexpr uint8_t kTicksPerBin = 8;      // 1.024 s at 128 ms
+
+  constexpr Autotune() = default;
+
+  // Period of step() in ms (10..2000); timeout in s (default 30 min).
+  void configure(uint16_t period_ms, uint16_t timeout_s = 1800);
+
+  // Starts a tune (false, and state kFailed/kBadParameters, if an argument is out of range):
+  // target 50..275 °C, cycles 3..20, ambient_q8 = kMeasureAmbient to take the reading at start
+  // when the hotend is cold (else 25 °C is assumed), or the ambient in °C × 256.
+  bool start(int32_t target_q8, uint8_t cycles, bool measure_fan, int32_t ambient_q8 = kMeasureAmbient);
+
+  // Heater off, state kFailed/kAborted.
+  void abort();
+
+  // One control period with the thermistor reading (°C × 256).
+  AutotuneOutput step(int32_t measured_q8);
+
+  AutotuneState state() const { return state_; }
+  AutotuneFailure failure() const { return failure_; }
+  const AutotuneCycle& cycle() const { return cycle_; }
+  const AutotuneUltimate& ultimate() const { return ultimate_; }
+  const AutotuneResult& result() const { return result_; }
+
+  // For tests and diagnostics.
+  enum class Phase : uint8_t { kIdle, kCool, kBaseline, kProbe, kApproach, kRelay, kCompute, kDone };
+  Phase phase() const { return phase_; }
+  uint32_t elapsed_ticks() const { return tick_; }
+  int32_t slope_q8() const { return slope_q8_; }          // S: °C×256 per bin at full duty
+  int32_t horizon_ticks() const { return horizon_ticks_; }  // L̂
+  uint16_t inv_t_q16() const { return inv_t_q16_; }         // 1/T per bin, Q16
+
+ private:
+  struct StoredCycle {
+    uint16_t u_hi_q16, u_lo_q16;
+    int16_t max_q8, min_q8;        // relative to the target
+    int16_t switch_hi_q8, switch_lo_q8;  // filtered reading at the two switches, rel. target
+    uint16_t t_hi, t_lo;           // ticks
+  };
+
+  void fail(AutotuneFailure why);
+  void enter(Phase p);
+  void on_bin();             // every kTicksPerBin ticks: the slow logic of the current phase
+  void probe_bin();
+  void approach_bin();
+  void model_bin();
+  void start_probe();
+  void begin_approach(int32_t s, int32_t horizon_ticks, uint16_t inv_t_q16, uint8_t on_bins);
+  int32_t steady_from_model() const;
+  void set_levels();
+  void relay_bin();
+  void relay_tick(int32_t yf_q8, int32_t y_q8);
+  void end_cycle(uint16_t t_lo);
+  bool compute_chunk();      // one piece of the final arithmetic; true when done
+  int32_t seconds_q8(uint32_t ticks) const;
+  uint32_t ticks_from_s(uint16_t s) const;
+  int32_t model_ago(uint8_t bins) const;
+  uint8_t duty_ago(uint8_t bins) const;  // the model state `bins` bins ago (°C×256 rise)
+
+  // Configuration.
+  uint16_t period_ms_ = 128;
+  uint32_t timeout_ticks_ = 0;
+  int32_t target_q8_ = 0;
+  int32_t ambient_q8_ = kDefaultAmbientQ8;
+  bool ambient_given_ = false;
+  uint8_t cycles_ = 0;
+  bool measure_fan_ = false;
+
+  // Run state.
+  AutotuneState state_ = AutotuneState::kIdle;
+  AutotuneFailure failure_ = AutotuneFailure::kNone;
+  Phase phase_ = Phase::kIdle;
+  AutotuneEvent event_ = AutotuneEvent::kNone;
+  uint32_t tick_ = 0;
+  uint16_t duty_q16_ = 0;
+  uint8_t fan_ = 0;
+
+  // Bin averaging and the duty history.
+  int32_t bin_sum_q8_ = 0;
+  uint16_t bin_duty_sum_ = 0;  // Σ duty q8 over the bin (≤ 8·256)
+  uint8_t bin_ticks_ = 0;
+  int32_t y_bin_q8_ = 0;       // last completed bin mean
+  int32_t y_prev_q8_ = 0;      // the one before
+  int32_t y_prev2_q8_ = 0;
+  uint16_t bins_ = 0;          // completed bins in this phase
+  int16_t ring_[kRingBins] = {};  // Smith predictor: model's undelayed rise per bin − offset, °C × 16
+  uint8_t duty_ring_[kRingBins] = {};  // mean duty per bin, 255 = 100 %
+  int32_t offset_q8_ = 0;
+  uint8_t ring_head_ = 0;
+  uint16_t last_bin_duty_q8_ = 0;  // mean duty of the last bin, 256 = 100 %
+  int32_t y_hist_q8_[4] = {};      // bin means 1..4 bins ago (4-bin slope)
+  int32_t yf_ring_[4] = {};    // last 4 readings (relay filter)
+  uint8_t yf_head_ = 0;
+
+  // Baseline / probe.
+  int32_t y0_q8_ = 0;
+  int32_t base_rise_q8_ = 0;   // predicted baseline, relative to ambient
+  uint16_t base_rate_q16_ = 0;  // baseline decay per bin, Q16 (hot start)
+  int32_t start_q8_ = 0;       // reading at start()
+  bool hot_start_ = false;
+  uint16_t cap_ticks_ = 0;     // energy cap of the probe's pulse
+  uint16_t on_ticks_ = 0;
+  uint32_t off_tick_ = 0;      // tick (since probe start) the pulse ended
+  uint16_t probe_ticks_ = 0;
+  bool heater_on_ = false;
+  bool extend_ = false;        // pulse extended past the cap (response seen, still steepening)
+  bool cooled_ = false;        // a hot start has shown its decay
+  int32_t cool_ref_q8_ = 0;
+  bool detected_ = false;
+  uint16_t det_bin_ = 0;
+  int32_t dev_q8_ = 0, dev_prev_q8_ = 0, dev_prev2_q8_ = 0;
+  int32_t slope_max_q8_ = 0;
+  uint16_t slope_max_bin_ = 0;
+  int32_t slope_max_dev_q8_ = 0;  // deviation at the centre of the steepest window
+  bool continuous_ = false;
+  int32_t max_centre_tick_ = 0;
+  bool integrating_ = false;       // the probe went on into a steady heat-up (no cut)
+  int32_t dev_off_q8_ = 0;     // deviation at the cut
+  int32_t dev_peak_q8_ = 0;
+  uint16_t peak_bin_ = 0;
+  bool peaked_ = false;
+  int32_t y_peak_q8_ = 0;
+  uint8_t retries_ = 0;
+
+  // Model for the approach.
+  int32_t slope_q8_ = 0;        // S: rise per bin at 100 % (°C × 256)
+  int32_t horizon_ticks_ = 0;   // L̂
+  uint8_t horizon_bins_ = 0;
+  uint16_t inv_t_q16_ = 0;      // loss rate 1/T per bin, Q16
+  int32_t gain_q8_ = 0;         // approach P gain: duty_q16 per temp_q8, × 256
+  uint8_t tau_bins_ = 0;        // closed-loop time constant of the approach
+  int32_t steady_q16_ = 0;      // ū: steady duty estimate (integral part)
+  uint8_t settled_bins_ = 0;
+  int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)
+  int32_t ref_rise_q8_ = 0;
+  int32_t ref_slope_q8_ = 0;     // loss learning: rise where the slope S was measured
+  uint8_t full_bins_ = 0;       // consecutive bins at 100 % in the approach
+  int32_t duty_avg_q16_ = 0;    // smoothed approach duty (relay bias)
+
+  // Relay.
+  bool relay_hi_ = false;
+  uint16_t bias_q16_ = 0;
+  uint16_t d_q16_ = 0;
+  uint16_t half_ticks_ = 0;
+  uint16_t longest_half_ = 0;
+  uint16_t last_nudge_ = 0;
+  uint16_t t_hi_ = 0;
+  int32_t cyc_min_q8_ = 0, cyc_max_q8_ = 0;
+  int32_t sw_hi_q8_ = 0, sw_lo_q8_ = 0;
+  int32_t cyc_sum_dev_ = 0;     // Σ (y − target) over the cycle's ticks (q8)
+  uint32_t cyc_sum_duty_ = 0;   // Σ duty q16 over the cycle's ticks
+  uint8_t cycle_index_ = 0;     // completed cycles in the current (fan or no-fan) part
+  bool fan_part_ = false;
+  bool fan_pending_ = false;     // the fan is on: the next relay is the fan part
+  uint8_t nofan_measure_ = 0, fan_skip_ = 0, fan_measure_ = 0;
+  bool started_cycle_ = false;
+  // Sums over measured cycles: [0] no fan, [1] fan.
+  int32_t sum_dev_[2] = {};     // Σ (y − target) per tick, q8 (|·| ≤ 2^31 for ≤ 30k ticks of ±256 °C... see cpp)
+  uint32_t sum_duty_[2] = {};   // Σ duty q16 >> 4 per tick
+  uint32_t sum_ticks_[2] = {};
+  StoredCycle stored_[kMaxStoredCycles] = {};
+  uint8_t stored_count_ = 0;
+  uint32_t ku_sum_q8_ = 0, tu_sum_q8_ = 0;
+  uint8_t ku_count_ = 0;
+
+  // Compute.
+  uint8_t compute_step_ = 0;
+  int32_t k_q8_ = 0;            // K: °C × 256 per unit duty
+  int32_t t_sum_q8_ = 0, l_sum_q8_ = 0;
+  uint8_t tl_count_ = 0;
+  int32_t lambda_sum_q16_ = 0;
+  int32_t slope_rise_q8_ = 0;   // rise at the centre of the steepest heat-up window
+  uint8_t crossings_ = 0;
+  uint8_t steady_bins_ = 0;     // bins the duty has stayed near steady_ref_
+  int16_t steady_ref_ = 0;
+  int8_t side_ = 0;
+
+  AutotuneCycle cycle_{0, 0, 0, 0};
+  AutotuneUltimate ultimate_{0, 0};
+  AutotuneResult result_{{0, 0, 0, 0}, 0, {0, 0}, 0, false};
+};
+
+}  // namespace control

@@ -1,4 +1,4 @@
-// The M303 identification engine (control/autotune.h) on simulated hotends (control/lti_simulate.h):
+// The M303 identification engine (control/autotune.h) on simulated hotends (design/plant_sim.h):
 // finishes, never above target + 5 °C, within the duration targets, and identifies K, T, L, F.
 #include <gtest/gtest.h>
 
@@ -10,23 +10,21 @@
 #include <vector>
 
 #include "control/autotune.h"
-#include "control/lti_model.h"
-#include "control/lti_seed_models.h"
-#include "control/lti_simulate.h"
+#include "design/lti_model.h"
+#include "design/seed_models.h"
+#include "design/plant_sim.h"
 
 namespace {
 
 using control::Autotune;
 using control::AutotuneFailure;
 using control::AutotuneState;
-namespace design = control::design;
 
 constexpr double kPeriodS = 0.128;
 
 struct Plant {
   std::string name;
   design::LtiModel model;
-  int fan_state;        // PlantSim: the state the fan cools (-1 = output)
   double target_c;
   double start_c;       // 25 = cold; else held there by a steady duty before the tune
   bool fopdt;           // K, T, L, F accuracy asserted
@@ -38,14 +36,14 @@ double fan_pct(const design::LtiModel& m, double k) { return m.fan_loss_per_k * 
 
 Plant fopdt_plant(const std::string& name, double k, double t, double l, double target = 210) {
   design::LtiModel m = design::with_seed_fan(design::fopdt(k, t, l));
-  return Plant{name, m, -1, target, 25, true, k, t, l, 0, 0};
+  return Plant{name, m, target, 25, true, k, t, l, 0, 0};
 }
 
 Plant two_node_plant(const std::string& name, design::TwoNodeParams p, double target = 210, double delay = 0) {
   design::LtiModel m = design::two_node(p);
   m.delay_s = delay;
   const double k = p.heater_w / p.loss_w_per_k;
-  return Plant{name, m, 0, target, 25, false, k, p.block_j_per_k / p.loss_w_per_k, delay, 1.0 / p.sensor_rate_per_s, 0};
+  return Plant{name, m, target, 25, false, k, p.block_j_per_k / p.loss_w_per_k, delay, 1.0 / p.sensor_rate_per_s, 0};
 }
 
 std::vector<Plant> plants() {
@@ -55,7 +53,7 @@ std::vector<Plant> plants() {
   v.push_back(h);
   v.push_back(fopdt_plant("seed002", 450, 24, 20.7));
   v.push_back(fopdt_plant("seed004", 450, 25.5, 19.5));
-  Plant s3{"seed003", design::seed003(), -1, 210, 25, false, 450, 0.64 * 44.2696, 0, 0.32 * 44.2696, 0};
+  Plant s3{"seed003", design::seed003(), 210, 25, false, 450, 0.64 * 44.2696, 0, 0.32 * 44.2696, 0};
   v.push_back(s3);
   v.push_back(fopdt_plant("fopdt-60-3", 450, 60, 3));
   v.push_back(fopdt_plant("fopdt-300-10", 450, 300, 10));
@@ -79,8 +77,8 @@ std::vector<Plant> plants() {
   heavy.sensor_rate_per_s = 1.0 / 25;
   v.push_back(two_node_plant("heavy-slow", heavy));
   v.push_back(two_node_plant("two-node-delay5", design::TwoNodeParams(), 210, 5.0));
-  Plant s4{"seed000-4", design::seed000_4(), -1, 150, 25, false, 450, 0, 0, 0, 2 * 730.7};
-  Plant s5{"seed000-5", design::seed000_5(), -1, 150, 25, false, 450, 0, 0, 0, 2 * 664.0};
+  Plant s4{"seed000-4", design::seed000_4(), 150, 25, false, 450, 0, 0, 0, 2 * 730.7};
+  Plant s5{"seed000-5", design::seed000_5(), 150, 25, false, 450, 0, 0, 0, 2 * 664.0};
   v.push_back(s4);
   v.push_back(s5);
   return v;
@@ -100,7 +98,7 @@ struct TuneRun {
 
 // Time for 100 % duty to bring the plant from its start to the target.
 double full_power_heatup_s(const Plant& p, double start_duty) {
-  design::PlantSim sim(p.model, p.fan_state);
+  design::PlantSim sim(p.model);
   for (int i = 0; i < 40000 && start_duty > 0; ++i) sim.run(start_duty, kPeriodS);
   const double t0 = sim.time_s();
   while (sim.true_c() < p.target_c && sim.time_s() - t0 < 5000) sim.run(1.0, kPeriodS);
@@ -111,7 +109,7 @@ TuneRun run(const Plant& p, uint8_t cycles = 3, bool fan = true, double noise = 
         double heater_scale = 1.0, double start_c = -1, bool heater_stuck_on = false, uint16_t timeout_s = 3600) {
   TuneRun r;
   if (start_c < 0) start_c = p.start_c;
-  design::PlantSim sim(p.model, p.fan_state);
+  design::PlantSim sim(p.model);
   sim.set_noise(noise);
   sim.set_gain_error(heater_scale);
   double start_duty = 0;
@@ -334,7 +332,7 @@ TEST(Autotune, AbortAndBadParameters) {
 TEST(Autotune, ReportsMarlinCycleLinesAndKuTu) {
   // hotend40w: every relay cycle gives bias/d on the 0..255 scale and min/max around the
   // target; Ku = 4d/(πa) and Tu = the period match the cycle's own figures.
-  design::PlantSim sim(design::two_node(), 0);
+  design::PlantSim sim(design::two_node());
   sim.set_noise(0.1);
   Autotune at;
   at.configure(128);

@@ -20,9 +20,14 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
   uint16_t duty_q16;
   if (fault != Fault::kNone) {
     newly_latched = heater_.trip(fault);
+    tune_.stop(AutotuneJob::Stop::kFault);
     duty_q16 = 0;
   } else if (guard_.reading_bad()) {
     duty_q16 = heater_.hold_off();
+  } else if (tune_.busy()) {
+    uint8_t fan_duty = 0;
+    duty_q16 = heater_.hold(tune_.step(temp_q8_, &fan_duty));
+    hal::fan_pwm::set_duty(fan_duty);
   } else {
     duty_q16 = heater_.step(temp_q8_, hal::fan_pwm::duty());
   }

@@ -4,6 +4,7 @@
 #pragma once
 #include <stdint.h>
 
+#include "firmware/controller_autotune.h"
 #include "firmware/gcode_output.h"
 #include "firmware/heater_manager.h"
 #include "firmware/range_guard.h"
@@ -13,7 +14,8 @@ namespace firmware {
 
 class ControlLoop {
  public:
-  ControlLoop(HeaterManager& heater, gcode::Output& out) : heater_(heater), out_(out) {}
+  ControlLoop(HeaterManager& heater, AutotuneJob& tune, gcode::Output& out)
+      : heater_(heater), tune_(tune), out_(out) {}
 
   // One period from the window's adc_q6 (mean ADC code x 64).
   void run(uint16_t adc_q6);
@@ -25,6 +27,7 @@ class ControlLoop {
 
  private:
   HeaterManager& heater_;
+  AutotuneJob& tune_;  // while busy, M303 drives the heater and the part fan
   gcode::Output& out_;
   RangeGuard guard_;
   ThermalWatch watch_;

@@ -162,8 +162,9 @@ void ControllerCommands::report(gcode::Output& out) {
   write_selection(out);
 }
 
-void ControllerCommands::write_model(gcode::Output& out) const {
-  const control::HotendModel& m = bank_.settings().model;
+void ControllerCommands::write_model(gcode::Output& out) const { write_m307(out, bank_.settings().model); }
+
+void write_m307(gcode::Output& out, const control::HotendModel& m) {
   out.print(GCODE_TEXT("M307 A"));
   out.write_q8(m.rise_q8);
   out.print(GCODE_TEXT(" C"));

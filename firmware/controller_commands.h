@@ -15,6 +15,9 @@
 
 namespace firmware {
 
+// "M307 A<rise> C<time constant> D<dead time> F<fan loss>\n" (M503 and M303's report).
+void write_m307(gcode::Output& out, const control::HotendModel& model);
+
 class ControllerCommands {
  public:
   explicit constexpr ControllerCommands(ControllerBank& bank) : bank_(bank) {}

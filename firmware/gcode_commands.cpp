@@ -113,6 +113,7 @@ void Interpreter::fan_on(const Command& cmd) {
 void Interpreter::fan_off(const Command&) { machine_.set_fan_duty(0); }
 
 void Interpreter::cancel_wait(const Command&) {
+  machine_.cancel_heating();     // an M303 in progress ends, heater off
   if (waiting()) finish_wait();  // the M109's "ok"; execute() then answers the M108
 }
 

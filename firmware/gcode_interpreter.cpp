@@ -166,6 +166,7 @@ void Interpreter::request_resend(const FlashText* reason) {
 
 void Interpreter::poll(uint32_t now_ms) {
   now_ms_ = now_ms;
+  machine_.background(out_);
   const uint32_t since_report_ms = now_ms - last_report_ms_;  // unsigned: wrap-safe
   if (waiting()) {
     const HeaterStatus status = machine_.heater_status();

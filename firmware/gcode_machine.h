@@ -56,6 +56,10 @@ class Machine {
   virtual bool handle_command(const Command&, Output&) { return false; }
   // Extra "echo:" lines for M503 after the layer's own M301 line.
   virtual void report_settings(Output&) {}
+  // Every main-loop pass (from Interpreter::poll): lines a background job (M303) has to print.
+  virtual void background(Output&) {}
+  // M108 (Marlin's break-and-continue): end a heating job such as M303, heater off.
+  virtual void cancel_heating() {}
 
  protected:
   ~Machine() = default;  // never deleted through this interface (no heap in the firmware)

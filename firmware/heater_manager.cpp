@@ -23,6 +23,11 @@ uint16_t HeaterManager::step(int32_t measured_q8, uint8_t fan_duty) {
   return duty_q16_;
 }
 
+uint16_t HeaterManager::hold(uint16_t duty_q16) {
+  duty_q16_ = (fault_ != Fault::kNone || target_q8_ == 0) ? 0 : duty_q16;
+  return duty_q16_;
+}
+
 uint16_t HeaterManager::hold_off() {
   hal::heater_pwm::force_off();
   duty_q16_ = 0;

@@ -20,6 +20,9 @@ class HeaterManager {
 
   // One control period with a plausible reading: returns the duty for the next PWM period.
   uint16_t step(int32_t measured_q8, uint8_t fan_duty);
+  // One control period driven by a job that sets the duty itself (M303): the duty for the
+  // next PWM period, 0 when the target is off or a fault is latched.
+  uint16_t hold(uint16_t duty_q16);
   // One control period with a reading the range guard distrusts: heater off now, the
   // controller is not fed the bad value (it keeps its state: one glitch costs one period).
   uint16_t hold_off();

@@ -42,7 +42,44 @@ gcode::HeaterStatus HotendMachine::heater_status() {
                              heater_.fault() != Fault::kNone};
 }
 
+namespace {
+// While M303 runs, what would change the heater's target or the controllers is refused.
+const gcode::FlashText* busy_tuning() { return GCODE_TEXT("Autotune running (M303): refused; M108 or M104 S0 aborts it"); }
+}  // namespace
+
+bool HotendMachine::handle_command(const gcode::Command& cmd, gcode::Output& out) {
+  if (cmd.letter == 'M' && cmd.code == 303) {
+    const gcode::FlashText* refusal = heater_.fault() != Fault::kNone
+                                          ? GCODE_TEXT("PID Autotune failed! Heater fault latched, send M999 to clear")
+                                          : (tune_.busy() ? busy_tuning() : nullptr);
+    if (tune_.begin(cmd, out, refusal, hal::fan_pwm::duty())) heater_.set_target_q8(tune_.target_q8());
+    return true;
+  }
+  // M307/M310/M311/M312 with parameters change the controllers; bare, they only report.
+  const bool changes = cmd.letter == 'M' && cmd.code >= 307 && cmd.code <= 312 && cmd.params != nullptr &&
+                       *cmd.params != '\0';
+  if (changes && tune_.busy()) {
+    out.error_line(busy_tuning());
+    return true;
+  }
+  return commands_.handle(cmd, out, hand_over());
+}
+
+void HotendMachine::background(gcode::Output& out) {
+  if (!tune_.busy()) return;
+  // The tune has ended once report() says so: the heater is off, the controllers take over
+  // only from the next target (HandOver: not heating).
+  if (!tune_.report(out, HandOver{loop_.temp_q8(), 0, false})) return;
+  heater_.set_target_q8(0);
+  hal::fan_pwm::set_duty(tune_.fan_to_restore());
+  bank_.prepare_feedforward(0, tune_.fan_to_restore());
+}
+
 const gcode::FlashText* HotendMachine::set_target_q8(int32_t target_q8) {
+  if (tune_.busy()) {
+    if (target_q8 != 0) return busy_tuning();
+    tune_.stop(AutotuneJob::Stop::kUser);  // M104 S0: the report ends the job, heater off now
+  }
   const gcode::FlashText* refusal = heater_.set_target_q8(target_q8);
   if (refusal == nullptr) bank_.prepare_feedforward(target_q8, hal::fan_pwm::duty());
   return refusal;
@@ -54,18 +91,23 @@ gcode::PidGainsQ16 HotendMachine::pid_gains() {
 }
 
 const gcode::FlashText* HotendMachine::set_pid_gains(const gcode::PidGainsQ16& gains) {
+  if (tune_.busy()) return busy_tuning();
   Settings next = bank_.settings();
   next.pid = control::PidGains{gains.kp_q16, gains.ki_q16, gains.kd_q16};
   return bank_.apply(next, hand_over());
 }
 
 void HotendMachine::set_fan_duty(uint8_t duty) {
+  if (tune_.busy()) return tune_.set_fan_to_restore(duty);  // the tune drives the fan until it ends
   hal::fan_pwm::set_duty(duty);
   bank_.prepare_feedforward(heater_.target_q8(), duty);  // fan feedforward from the next period
 }
 
 // The G-code layer prints the Error line for M112 itself.
-void HotendMachine::emergency_stop() { heater_.trip(Fault::kEmergencyStop); }
+void HotendMachine::emergency_stop() {
+  heater_.trip(Fault::kEmergencyStop);
+  tune_.stop(AutotuneJob::Stop::kUser);
+}
 
 const gcode::FlashText* HotendMachine::clear_fault() {
   const Fault fault = heater_.fault();

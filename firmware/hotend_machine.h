@@ -6,6 +6,7 @@
 #include <stdint.h>
 
 #include "firmware/control_loop.h"
+#include "firmware/controller_autotune.h"
 #include "firmware/controller_bank.h"
 #include "firmware/controller_commands.h"
 #include "firmware/gcode_machine.h"
@@ -19,8 +20,9 @@ constexpr int32_t kMaxTargetQ8 = 275L * 256;
 
 class HotendMachine final : public gcode::Machine {
  public:
-  constexpr HotendMachine(HeaterManager& heater, ControlLoop& loop, ControllerBank& bank, gcode::Output& out)
-      : heater_(heater), loop_(loop), bank_(bank), commands_(bank), out_(out) {}
+  constexpr HotendMachine(HeaterManager& heater, ControlLoop& loop, ControllerBank& bank, AutotuneJob& tune,
+                          gcode::Output& out)
+      : heater_(heater), loop_(loop), bank_(bank), tune_(tune), commands_(bank), out_(out) {}
 
   // Start-up: settings from EEPROM, or the defaults with a message when it holds none.
   void load_settings_at_boot();
@@ -39,10 +41,10 @@ class HotendMachine final : public gcode::Machine {
   const gcode::FlashText* firmware_version() override;
   const gcode::FlashText* machine_type() override;
   void hang_for_watchdog() override;
-  bool handle_command(const gcode::Command& cmd, gcode::Output& out) override {
-    return commands_.handle(cmd, out, hand_over());
-  }
+  bool handle_command(const gcode::Command& cmd, gcode::Output& out) override;
   void report_settings(gcode::Output& out) override { commands_.report(out); }
+  void background(gcode::Output& out) override;
+  void cancel_heating() override { tune_.stop(AutotuneJob::Stop::kUser); }
 
  private:
   HandOver hand_over() const;
@@ -52,6 +54,7 @@ class HotendMachine final : public gcode::Machine {
   HeaterManager& heater_;
   ControlLoop& loop_;
   ControllerBank& bank_;  // holds the settings in force (what M500 saves)
+  AutotuneJob& tune_;     // M303
   ControllerCommands commands_;
   gcode::Output& out_;
 };

@@ -26,8 +26,9 @@ namespace {
 firmware::SerialOutput g_out;
 firmware::ControllerBank g_bank(firmware::load_surface_cell);
 firmware::HeaterManager g_heater(g_bank);
-firmware::ControlLoop g_loop(g_heater, g_out);
-firmware::HotendMachine g_machine(g_heater, g_loop, g_bank, g_out);
+firmware::AutotuneJob g_tune(g_bank);
+firmware::ControlLoop g_loop(g_heater, g_tune, g_out);
+firmware::HotendMachine g_machine(g_heater, g_loop, g_bank, g_tune, g_out);
 gcode::Interpreter g_gcode(g_machine, g_out);
 
 bool has_work() {

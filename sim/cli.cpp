@@ -30,6 +30,7 @@ const char* const kUsage = R"(usage:
              [--fault open@T|short@T|hang@T] [--check] [--max-overshoot C] [--max-steady-error C]
              [--max-report-error C] [--max-steady-p2p C] [--max-recovery S]
              [--max-recovery-ratio R] [--transcript FILE] [--quiet]
+             [--autotune [--tune-cycles N] [--tune-fan 0|1] [--max-tune-overshoot C]]
   hotend-sim bench [--markdown] [--boards a,b] [--plants x,y] [--controllers a,b]
              [--variant NAME=GCODE]... [--target C] [--fan-step S] [--seconds S] [--jobs N]
              [--noise-lsb SIGMA] [--seed N] [--gains P,I,D | --gains-rule RULE] [--gcode "CMD@T"]
@@ -57,6 +58,11 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the cont
   of the physical bound); fault runs: heater off within 1 s and the Error: line, or for a hang
   reset + start + off.
   --transcript: the serial conversation with simulated times ("> " sent, "< " received).
+  --autotune: the user story of issue 7 — `M303 E0 S<target> C<cycles> U1 F<0|1>` first (the
+  board identifies the hotend and designs its controllers), then a cool-down to 10 % of the way
+  from ambient to the target, then M104 and the timed commands as usual. The report adds the
+  tune's duration, its maximum above S and the identified model; --check adds: the tune finished
+  and applied, never more than --max-tune-overshoot (5 °C) above S.
 bench: every controller × board × plant (or the given ones) in parallel, heating to each
   plant's default target, a part-fan step 0 → 100 % at --fan-step s (default: the plant's
   default duration; 0 = none) and --seconds in all (default: fan step + half the default
@@ -68,10 +74,11 @@ plot: temperature and heater duty of several --csv runs against time in one SVG.
 )";
 
 int run_command(const std::vector<std::string>& args) {
-  const Options o = parse_options(args, {"check", "quiet"});
+  const Options o = parse_options(args, {"check", "quiet", "autotune"});
   reject_unknown(o, {"board", "plant", "controller", "target", "seconds", "csv", "noise-lsb", "seed", "gains",
                      "gains-rule", "gcode", "elf", "fault", "transcript", "max-overshoot", "max-steady-error",
-                     "max-report-error", "max-steady-p2p", "max-recovery", "max-recovery-ratio"});
+                     "max-report-error", "max-steady-p2p", "max-recovery", "max-recovery-ratio",
+                     "tune-cycles", "tune-fan", "max-tune-overshoot"});
   RunConfig c;
   c.board = board_named(o.get("board", "ramps14"));
   c.plant = plant_named(o.get("plant", "hotend40w"));
@@ -83,6 +90,17 @@ int run_command(const std::vector<std::string>& args) {
   c.csv_path = o.get("csv");
   c.elf_path = o.has("elf") ? o.get("elf") : default_elf_path(HOTEND_SIM_FIRMWARE_DIR, c.board);
   apply_common(o, c, o.get("controller"));
+  if (o.has("autotune")) {
+    if (o.has("controller")) throw std::invalid_argument("--autotune sets the controller itself (M303 U1)");
+    AutotuneConfig a;
+    a.cycles = static_cast<int>(parse_number(o.get("tune-cycles", "5"), "--tune-cycles"));
+    a.fan = parse_number(o.get("tune-fan", "1"), "--tune-fan") != 0;
+    c.autotune = a;
+    if (!o.has("gains")) {  // the tune designs them
+      c.gains.reset();
+      c.gains_source.clear();
+    }
+  }
 
   CheckLimits limits;
   limits.max_overshoot_c = parse_number(o.get("max-overshoot", "5"), "--max-overshoot");
@@ -93,6 +111,7 @@ int run_command(const std::vector<std::string>& args) {
   if (o.has("max-recovery")) limits.max_recovery_s = parse_number(o.get("max-recovery"), "--max-recovery");
   if (o.has("max-recovery-ratio"))
     limits.max_recovery_bound_ratio = parse_number(o.get("max-recovery-ratio"), "--max-recovery-ratio");
+  limits.max_tune_overshoot_c = parse_number(o.get("max-tune-overshoot", "5"), "--max-tune-overshoot");
 
   const RunResult result = run_simulation(c);
   if (!o.has("quiet")) print_report(std::cout, result);

@@ -65,6 +65,14 @@ void print_report(std::ostream& out, const RunResult& r) {
                         format_fixed(c.gains->kd, 2)
                   : std::string("firmware default"))
       << (c.gains_source.empty() ? "" : "  (" + c.gains_source + ")") << "\n";
+  if (r.tune) {
+    const TuneOutcome& t = *r.tune;
+    out << "autotune (M303)    " << (t.end_s ? format_fixed(t.duration_s(), 1) + " s, " : std::string("did not end, "))
+        << t.cycle_lines << " relay cycles, max " << format_fixed(t.max_true_c - c.target_c, 2)
+        << " °C above S; " << (t.result_line.empty() ? std::string("no result line") : t.result_line) << "\n";
+    if (!t.model_line.empty()) out << "  identified       " << t.model_line << "\n";
+    if (!t.pid_line.empty()) out << "  designed         " << t.pid_line << (t.applied ? " (applied, M310 S0 F1)" : "") << "\n";
+  }
   if (r.heating_start_s) {
     out << "heating start      " << format_fixed(*r.heating_start_s, 3) << " s after power-on\n"
         << "time to reach      " << format_optional(m.time_to_reach_s, 1) << " s (first inside ±1 °C)\n"
@@ -105,6 +113,14 @@ std::vector<std::string> failed_checks(const RunResult& r, const CheckLimits& li
     if (!ok) failed.push_back(what);
   };
   require(r.booted, "the firmware never printed `start`");
+  if (r.config.autotune) {
+    require(r.tune && r.tune->finished, "M303 did not finish" + (r.tune ? ": " + r.tune->result_line : std::string()));
+    if (r.tune && r.tune->end_s)
+      require(r.tune->max_true_c <= r.config.target_c + limits.max_tune_overshoot_c,
+              "M303 reached " + format_fixed(r.tune->max_true_c - r.config.target_c, 2) + " °C above S > " +
+                  format_fixed(limits.max_tune_overshoot_c, 2));
+    if (r.config.autotune->apply) require(r.tune && r.tune->applied, "M303 U1 did not apply its result");
+  }
   require(r.heating_start_s.has_value(), "the firmware never acknowledged M104");
   require(r.cpu == CpuState::kRunning, "the simulated CPU stopped or crashed");
   if (!r.heating_start_s) return failed;

@@ -23,6 +23,9 @@ struct CheckLimits {
   std::optional<double> max_recovery_s;
   // The same as a multiple of the plant's physical bound (issue 3's HIL tests: 2 × bound).
   std::optional<double> max_recovery_bound_ratio;
+  // --autotune runs: the tune must finish (and apply, with U1) without the true temperature
+  // ever passing S + this (issue 7).
+  double max_tune_overshoot_c = 5.0;
 };
 
 void print_report(std::ostream& out, const RunResult& result);

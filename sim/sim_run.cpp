@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <deque>
 #include <limits>
 
+#include "sim/cli_args.h"
 #include "sim/gcode_format.h"
 #include "sim/host_session.h"
 #include "sim/run_files.h"
@@ -25,6 +27,7 @@ constexpr int kStepsPerTraceSample = 128;
 constexpr double kReportLatencyS = 0.3;
 constexpr double kBootTimeoutS = 5.0;
 constexpr double kSetupTimeoutS = 30.0;
+constexpr double kTuneTimeoutS = 7200.0;  // M303 (its own limit: 30 min) plus the cool-down
 constexpr double kM105PeriodS = 5.0;  // M155 reports every second; M105 is polled as well
 constexpr double kRunChunkS = 0.25;
 
@@ -43,6 +46,8 @@ class Runner {
   void on_plant_step();
   void on_line(const ReplyLine& line);
   void start_setup();
+  void send_heat_up();
+  void on_tune_line(const std::string& text, double t_s);
   void send_due_commands(double now_s);
   void check_report(const TempReport& report);
   void record_trace(double now_s);
@@ -75,6 +80,7 @@ class Runner {
   double code_sum_ = 0.0;
   int code_count_ = 0;
   double reported_c_ = std::numeric_limits<double>::quiet_NaN();
+  bool cooling_ = false;  // the tune has ended: waiting for the hotend to cool before M104
 };
 
 Runner::Runner(const RunConfig& config)
@@ -118,6 +124,14 @@ void Runner::on_plant_step() {
   plant_.step(PlantInput{heater, fan});
 
   const double true_c = plant_.temperature_c();
+  if (result_.tune && !result_.tune->end_s) result_.tune->max_true_c = std::max(result_.tune->max_true_c, true_c);
+  if (cooling_) {
+    const double ambient = config_.plant.ambient_c;
+    if (true_c <= ambient + config_.autotune->cool_to_fraction * (config_.target_c - ambient)) {
+      cooling_ = false;
+      send_heat_up();
+    }
+  }
   recent_true_.emplace_back(now, true_c);
   while (recent_true_.front().first < now - kReportLatencyS) recent_true_.pop_front();
 
@@ -152,6 +166,7 @@ void Runner::send_due_commands(double now_s) {
 void Runner::on_line(const ReplyLine& line) {
   if (line.text == "start" && session_.boot_count() == 1) start_setup();
   if (line.text.rfind("Error:", 0) == 0) result_.error_lines.push_back(line.text);
+  if (result_.tune && !cooling_ && !result_.heating_start_s) on_tune_line(line.text, line.t_s);
   // A set-up command this image does not know (e.g. a controller it was built without).
   if (line.text.rfind("echo:Unknown command", 0) == 0) result_.problems.push_back("firmware: " + line.text);
   if (auto report = parse_temp_report(line.text)) {
@@ -166,6 +181,48 @@ void Runner::start_setup() {
   for (const TimedCommand& c : config_.gcode)
     if (!c.at_s) session_.send(c.line);
   session_.send("M155 S1");
+  if (!config_.autotune) return send_heat_up();
+  const AutotuneConfig& a = *config_.autotune;
+  session_.send("M303 E0 S" + format_decimal(config_.target_c) + " C" + std::to_string(a.cycles) +
+                    " U" + (a.apply ? "1" : "0") + " F" + (a.fan ? "1" : "0"),
+                [this](double t_ok) {
+                  result_.tune = TuneOutcome();
+                  result_.tune->start_s = t_ok;
+                });
+}
+
+// The tune's lines (firmware/controller_autotune.cpp): the end is the line after the result.
+void Runner::on_tune_line(const std::string& text, double t_s) {
+  TuneOutcome& tune = *result_.tune;
+  auto starts = [&text](const char* prefix) { return text.rfind(prefix, 0) == 0; };
+  if (starts(" bias:")) ++tune.cycle_lines;
+  if (starts("PID Autotune finished!")) tune.finished = true;
+  if (starts("PID Autotune finished!") || starts("PID Autotune failed!")) {
+    tune.result_line = text;
+    tune.end_s = t_s;
+  }
+  const std::size_t m307 = text.find("M307 ");
+  if (starts("echo:Autotune model") && m307 != std::string::npos) {
+    tune.model_line = text.substr(m307);
+    for (const std::string& word : split(tune.model_line, ' ')) {
+      if (word.size() < 2) continue;
+      const double v = std::atof(word.c_str() + 1);
+      if (word[0] == 'A') tune.a = v;
+      if (word[0] == 'C') tune.c = v;
+      if (word[0] == 'D') tune.d = v;
+      if (word[0] == 'F') tune.f = v;
+    }
+  }
+  const std::size_t m301 = text.find("M301 ");
+  if (starts("echo:Autotune PID") && m301 != std::string::npos) tune.pid_line = text.substr(m301);
+  if (starts("echo:Autotune applied")) tune.applied = true;
+  // The last line of every ending: applied / not applied, or the failure itself.
+  if (starts("echo:Autotune applied") || starts("echo:Autotune not applied") || starts("PID Autotune failed!") ||
+      (tune.end_s && starts("Error:")))
+    cooling_ = true;
+}
+
+void Runner::send_heat_up() {
   session_.send(format_target(config_.target_c), [this](double t_ok) {
     result_.heating_start_s = t_ok;
     target_sent_c_ = config_.target_c;
@@ -220,7 +277,12 @@ RunResult Runner::run() {
       result_.problems.push_back("no `start` line within 5 s of power-on");
       break;
     }
-    if (!result_.heating_start_s && t > kSetupTimeoutS) {
+    const bool tuning = config_.autotune && (!result_.tune || !result_.tune->end_s || cooling_);
+    if (tuning && t > kTuneTimeoutS) {
+      result_.problems.push_back("M303 and the cool-down took longer than " + format_decimal(kTuneTimeoutS) + " s");
+      break;
+    }
+    if (!tuning && !result_.heating_start_s && t > (config_.autotune ? kTuneTimeoutS : kSetupTimeoutS)) {
       result_.problems.push_back("no `ok` to M104 within 30 s of power-on");
       break;
     }

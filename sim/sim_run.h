@@ -29,6 +29,31 @@ struct TimedCommand {
   std::optional<double> at_s;
 };
 
+// `--autotune`: M303 before the heat-up. The run sends `M303 E0 S<target> C<cycles> U1 F<fan>`,
+// waits for the tune's end, lets the hotend cool to `cool_to_fraction` of the way from ambient
+// to the target (the tuned heat-up then starts nearly cold), and only then sends M104.
+struct AutotuneConfig {
+  int cycles = 5;
+  bool fan = true;
+  bool apply = true;
+  double cool_to_fraction = 0.1;
+};
+
+// What the harness saw of a tune: the firmware's own lines, parsed.
+struct TuneOutcome {
+  double start_s = 0.0;  // the `ok` to M303, since power-on
+  std::optional<double> end_s;  // the finished/failed line
+  bool finished = false;
+  bool applied = false;
+  double max_true_c = -1e9;  // highest true temperature between start and end
+  std::string result_line;   // "PID Autotune finished! …" or the failure line
+  std::string model_line;    // the M307 the tune identified (without the echo: prefix)
+  std::string pid_line;      // the M301 it designed
+  double a = 0, c = 0, d = 0, f = 0;  // the M307 values
+  int cycle_lines = 0;
+  double duration_s() const { return end_s ? *end_s - start_s : 0.0; }
+};
+
 struct RunConfig {
   BoardSpec board;
   PlantSpec plant;
@@ -44,6 +69,7 @@ struct RunConfig {
   FaultKind fault = FaultKind::kNone;
   double fault_at_s = 0.0;  // after the heating start
   std::string csv_path;
+  std::optional<AutotuneConfig> autotune;
 };
 
 struct RunResult {
@@ -67,6 +93,7 @@ struct RunResult {
   std::vector<ReplyLine> transcript;  // the serial conversation ("> " sent, "< " received)
   std::optional<FaultOutcome> fault;
   std::vector<TraceSample> trace;
+  std::optional<TuneOutcome> tune;
 
   double sim_speed() const { return wall_s > 0.0 ? end_s / wall_s : 0.0; }
 };

@@ -1,0 +1,35 @@
+#include "control/autotune_design.h"
+
+#include "control/fixed.h"
+
+namespace control {
+
+bool design_from_tune(const AutotuneResult& tune, uint16_t period_ms, TunedDesign* out) {
+  out->model = tune.model;
+  if (!hotend_model_valid(tune.model)) return false;
+  // hotend_model_valid: 10 ≤ A ≤ 2000 °C, 1 ≤ C ≤ 3600 s (Q8) — the bounds below rely on it.
+  const uint32_t k_q8 = static_cast<uint32_t>(tune.model.rise_q8);
+  const uint32_t t_q8 = static_cast<uint32_t>(tune.model.time_constant_q8);
+  int32_t l_q8 = tune.model.dead_time_q8;
+  const int32_t quarter_tu_q8 = tune.ultimate.tu_q8 / 4;
+  if (l_q8 < quarter_tu_q8) l_q8 = quarter_tu_q8;
+  if (l_q8 < kMinDesignDeadTimeQ8) l_q8 = kMinDesignDeadTimeQ8;
+  if (l_q8 > kModelMaxDeadTimeQ8) return false;
+  out->design_dead_time_q8 = l_q8;
+  out->model.dead_time_q8 = l_q8;  // the feedforward's heat-up must respect the same delay
+  const uint32_t l = static_cast<uint32_t>(l_q8);
+
+  // Kp = 255·T/(K·3L) in M301 units. ratio = 255·256·T/L ≤ 65,280·921,600/128 < 2^32 (T ≤ 3600 s,
+  // L ≥ 0.5 s); kp_q16 = ratio·2^16/(3·K_q8): Kp·2^16 < 2^32 whenever Kp < 65,536 — far above
+  // Pid's limit, and mul_div_u32 needs only the quotient to fit.
+  const uint32_t ratio = fixed::mul_div_u32(t_q8, 255UL * 256UL, l);
+  const uint32_t kp_q16 = fixed::mul_div_u32(ratio, 65536UL, 3UL * k_q8);
+  if (kp_q16 > static_cast<uint32_t>(Pid::kMaxKpQ16)) return false;
+  // Ti = min(T, 4·(2L + L)) = min(T, 12·L); Ki = Kp/Ti: kp_q16·256/ti_q8 ≤ Kp·2^16 fits too.
+  const uint32_t ti_q8 = t_q8 < 12UL * l ? t_q8 : 12UL * l;
+  const uint32_t ki_q16 = fixed::mul_div_u32(kp_q16, 256UL, ti_q8);
+  out->pid = PidGains{static_cast<int32_t>(kp_q16), static_cast<int32_t>(ki_q16), 0};
+  return Pid::valid(out->pid, period_ms);
+}
+
+}  // namespace control

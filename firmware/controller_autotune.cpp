@@ -1,0 +1,180 @@
+#include "firmware/controller_autotune.h"
+
+#include "firmware/controller_commands.h"
+
+namespace firmware {
+namespace {
+
+constexpr int32_t kDefaultTargetQ8 = 210L * 256;  // Marlin's M303 default is the hotend's 150;
+                                                  // issue 7 asks for a printing temperature
+constexpr int32_t kDefaultCycles = 5;
+
+void write_gain_line(gcode::Output& out, const gcode::FlashText* name, int32_t value_q16) {
+  out.print(GCODE_TEXT("#define DEFAULT_"));
+  out.print(name);
+  out.write_char(' ');
+  out.write_q16(value_q16);
+  out.end_line();
+}
+
+}  // namespace
+
+bool AutotuneJob::begin(const gcode::Command& cmd, gcode::Output& out, const gcode::FlashText* refusal,
+                        uint8_t fan_duty) {
+  if (!cmd.valid(out)) return false;
+  int32_t heater = 0, target_q8 = kDefaultTargetQ8, cycles = kDefaultCycles, use = 0, fan = 1;
+  if (!cmd.integer('E', -1, 0x7FFF, &heater, out)) return false;
+  if (heater == -1) {
+    out.error_line(GCODE_TEXT("PID Autotune failed! E-1: this firmware has no bed heater loop (hotend E0 only)"));
+    return false;
+  }
+  if (heater != 0) {
+    out.error_line(GCODE_TEXT("PID Autotune failed! Bad extruder number (E0 only)"));
+    return false;
+  }
+  if (!cmd.fixed('S', 8, kMinTuneTargetQ8, kMaxTuneTargetQ8, &target_q8, out) ||
+      !cmd.integer('C', control::Autotune::kMinCycles, control::Autotune::kMaxCycles, &cycles, out) ||
+      !cmd.integer('U', 0, 1, &use, out) || !cmd.integer('F', 0, 1, &fan, out)) {
+    return false;
+  }
+  if (refusal != nullptr) {
+    out.error_line(refusal);
+    return false;
+  }
+  if (!tune_.start(target_q8, static_cast<uint8_t>(cycles), fan != 0)) {  // cannot fail: checked above
+    out.error_line(GCODE_TEXT("PID Autotune failed! Bad parameters"));
+    return false;
+  }
+  target_q8_ = target_q8;
+  apply_ = use != 0;
+  stopped_by_fault_ = false;
+  pending_ = 0;
+  cycles_seen_ = 0;
+  user_fan_ = fan_duty;
+  out.print(GCODE_TEXT("PID Autotune start\n"));
+  return true;
+}
+
+uint16_t AutotuneJob::step(int32_t measured_q8, uint8_t* fan_duty) {
+  const control::AutotuneOutput o = tune_.step(measured_q8);
+  if (o.event == control::AutotuneEvent::kCycle) {
+    cycle_ = tune_.cycle();
+    pending_ |= kCycleLine;
+  } else if (o.event == control::AutotuneEvent::kUltimate) {  // a cycle ended, and Ku/Tu are known
+    cycle_ = tune_.cycle();
+    ultimate_ = tune_.ultimate();
+    pending_ |= kCycleLine | kUltimateLine;
+  }
+  if (o.state != control::AutotuneState::kRunning) pending_ |= kEnded;
+  *fan_duty = o.state == control::AutotuneState::kRunning ? o.fan_duty : user_fan_;
+  return o.duty_q16;
+}
+
+void AutotuneJob::stop(Stop why) {
+  if (!running()) return;
+  tune_.abort();
+  stopped_by_fault_ = why == Stop::kFault;
+  pending_ |= kEnded;
+}
+
+bool AutotuneJob::report(gcode::Output& out, const HandOver& now) {
+  if (pending_ & kCycleLine) {
+    // Marlin's per-cycle line: relay levels on the 0–255 scale, the cycle's extremes in °C.
+    out.print(GCODE_TEXT(" bias: "));
+    out.write_uint(cycle_.bias);
+    out.print(GCODE_TEXT(" d: "));
+    out.write_uint(cycle_.d);
+    out.print(GCODE_TEXT(" min: "));
+    out.write_q8(cycle_.min_q8);
+    out.print(GCODE_TEXT(" max: "));
+    out.write_q8(cycle_.max_q8);
+    out.end_line();
+    ++cycles_seen_;
+  }
+  if (pending_ & kUltimateLine) {
+    out.print(GCODE_TEXT(" Ku: "));
+    out.write_q8(ultimate_.ku_q8);
+    out.print(GCODE_TEXT(" Tu: "));
+    out.write_q8(ultimate_.tu_q8);
+    out.end_line();
+  }
+  const bool ended = (pending_ & kEnded) != 0;
+  pending_ = 0;
+  if (!ended) return false;
+  if (tune_.state() == control::AutotuneState::kFinished) {
+    write_result(out, now);
+  } else {
+    write_failure(out);
+  }
+  return true;
+}
+
+void AutotuneJob::write_failure(gcode::Output& out) const {
+  out.print(GCODE_TEXT("PID Autotune failed! "));
+  switch (tune_.failure()) {
+    case control::AutotuneFailure::kTooHot: out.print(GCODE_TEXT("Temperature too high")); break;
+    case control::AutotuneFailure::kTimeout: out.print(GCODE_TEXT("timeout")); break;
+    case control::AutotuneFailure::kNoHeating:
+      out.print(GCODE_TEXT("No heating: full power did not raise the temperature (heater, thermistor?)"));
+      break;
+    case control::AutotuneFailure::kNoOscillation:
+      out.print(GCODE_TEXT("The relay oscillation did not hold around the target"));
+      break;
+    default:
+      out.print(stopped_by_fault_ ? GCODE_TEXT("Stopped by a heater fault")
+                                  : GCODE_TEXT("Aborted by the host, heater off"));
+      break;
+  }
+  out.end_line();
+}
+
+void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
+  const control::AutotuneResult& r = tune_.result();
+  control::TunedDesign d;
+  if (!control::design_from_tune(r, kControlPeriodMs, &d)) {
+    out.print(GCODE_TEXT("PID Autotune failed! Identified model outside the usable range: "));
+    write_m307(out, r.model);
+    return;
+  }
+  // Marlin's closing lines, which host plugins parse.
+  out.print(GCODE_TEXT(" Kp: "));
+  out.write_q16(d.pid.kp_q16);
+  out.print(GCODE_TEXT(" Ki: "));
+  out.write_q16(d.pid.ki_q16);
+  out.print(GCODE_TEXT(" Kd: "));
+  out.write_q16(d.pid.kd_q16);
+  out.print(GCODE_TEXT("\nPID Autotune finished! Put the last Kp, Ki and Kd constants from below into "
+                       "Configuration.h\n"));
+  write_gain_line(out, GCODE_TEXT("Kp"), d.pid.kp_q16);
+  write_gain_line(out, GCODE_TEXT("Ki"), d.pid.ki_q16);
+  write_gain_line(out, GCODE_TEXT("Kd"), d.pid.kd_q16);
+  // This firmware's own lines: the model, the gains as commands, what U1 does.
+  out.print(r.hot_start ? GCODE_TEXT("echo:Autotune model (hot start: cool-down, relay")
+                        : GCODE_TEXT("echo:Autotune model (cold start: heat-up, relay"));
+  out.print(r.model.fan_loss_pct_q8 != 0 ? GCODE_TEXT(", part fan): ") : GCODE_TEXT("): "));
+  write_m307(out, d.model);
+  out.print(GCODE_TEXT("echo:Autotune PID (SIMC PI on that model, dead time "));
+  out.write_q8(d.design_dead_time_q8);
+  out.print(GCODE_TEXT(" s): M301 P"));
+  out.write_q16(d.pid.kp_q16);
+  out.print(GCODE_TEXT(" I"));
+  out.write_q16(d.pid.ki_q16);
+  out.print(GCODE_TEXT(" D"));
+  out.write_q16(d.pid.kd_q16);
+  out.print(GCODE_TEXT("\necho:Autotune state feedback: not designed on the board; M311 uploads it "
+                       "(hotend-design)\n"));
+  if (!apply_) {
+    out.print(GCODE_TEXT("echo:Autotune not applied (U0): send the M307 and M301 lines, or M303 U1\n"));
+    return;
+  }
+  Settings next = bank_.settings();
+  next.model = d.model;
+  next.pid = d.pid;
+  next.controller = static_cast<uint8_t>(ControllerId::kPid);
+  next.feedforward = 1;
+  if (const gcode::FlashText* refusal = bank_.apply(next, now)) return out.error_line(refusal);
+  out.print(GCODE_TEXT("echo:Autotune applied (U1): M307, M301, M310 S0 F1 (PID following the model's "
+                       "heat-up); M500 stores them\n"));
+}
+
+}  // namespace firmware

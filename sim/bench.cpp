@@ -6,6 +6,7 @@
 #include <functional>
 #include <thread>
 
+#include "sim/plant_model.h"
 #include "sim/report.h"
 
 namespace sim {
@@ -32,7 +33,7 @@ std::string when_heated(const RunResult& r, std::string text) {
   return r.heating_start_s ? text : std::string("-");
 }
 
-std::vector<Column> columns(bool variants, bool disturbance, const std::string& dist) {
+std::vector<Column> columns(bool variants, bool disturbance, bool tune, const std::string& dist) {
   std::vector<Column> cols;
   if (variants) cols.push_back({"controller", [](const BenchCase& c, const RunResult&) { return c.variant; }});
   cols.push_back({"board", [](const BenchCase& c, const RunResult&) { return c.config.board.id; }});
@@ -64,6 +65,23 @@ std::vector<Column> columns(bool variants, bool disturbance, const std::string& 
   cols.push_back({"IAE °C·s", [](const BenchCase&, const RunResult& r) {
                     return when_heated(r, format_fixed(r.metrics.iae_c_s, 0));
                   }});
+  if (tune) {
+    cols.push_back({"tune s", [](const BenchCase&, const RunResult& r) {
+                      return r.tune && r.tune->finished ? format_fixed(r.tune->duration_s(), 0) : std::string("-");
+                    }});
+    cols.push_back({"tune max − S °C", [](const BenchCase&, const RunResult& r) {
+                      return r.tune ? format_fixed(r.tune->max_true_c - r.config.target_c, 2) : std::string("-");
+                    }});
+    cols.push_back({"model: tuned / true (A C D F)", [](const BenchCase&, const RunResult& r) {
+                      if (!r.tune) return std::string("-");
+                      const HotendModelSetting t = hotend_model_for(r.config.plant);
+                      return (r.tune->finished ? format_fixed(r.tune->a, 0) + " " + format_fixed(r.tune->c, 1) + " " +
+                                                     format_fixed(r.tune->d, 1) + " " + format_fixed(r.tune->f, 1)
+                                               : std::string("failed")) +
+                             " / " + format_fixed(t.rise_k, 0) + " " + format_fixed(t.time_constant_s, 1) + " " +
+                             format_fixed(t.dead_time_s, 1) + " " + format_fixed(t.fan_loss_pct, 1);
+                    }});
+  }
   if (disturbance) {
     cols.push_back({dist + " max |err| °C", [](const BenchCase&, const RunResult& r) {
                       const auto& d = r.metrics.disturbance;
@@ -127,7 +145,8 @@ void print_bench_table(std::ostream& out, const std::vector<BenchCase>& cases,
       std::any_of(cases.begin(), cases.end(), [](const BenchCase& c) { return !c.variant.empty(); });
   const bool disturbance = std::any_of(results.begin(), results.end(),
                                        [](const RunResult& r) { return r.metrics.disturbance.has_value(); });
-  const std::vector<Column> cols = columns(variants, disturbance, disturbance_name);
+  const bool tune = std::any_of(results.begin(), results.end(), [](const RunResult& r) { return r.tune.has_value(); });
+  const std::vector<Column> cols = columns(variants, disturbance, tune, disturbance_name);
 
   std::vector<std::vector<std::string>> rows(1);
   for (const Column& c : cols) rows[0].push_back(c.title);

@@ -18,6 +18,8 @@ namespace {
 
 // A set-up to run on every board × plant: a controller (controller_setup.h) or a --variant's
 // hand-made G-code.
+constexpr const char* kAutotune = "autotune";  // M303 E0 S<target> U1, then the run
+
 struct Setup {
   std::string label;
   std::string controller;  // "" for a variant
@@ -31,8 +33,11 @@ std::vector<Setup> setups(const Options& o) {
     out.push_back({v.substr(0, eq), "", eq == std::string::npos ? "" : v.substr(eq + 1)});
   }
   if (!out.empty()) return out;
-  const std::vector<std::string> names =
-      o.has("controllers") ? split(o.get("controllers"), ',') : controller_names();
+  // --autotune: M303 U1's controller beside the same controller from the plant's own model
+  // and Marlin's M303 (relay + classic Ziegler–Nichols).
+  const std::vector<std::string> names = o.has("controllers") ? split(o.get("controllers"), ',')
+                                         : o.has("autotune")  ? std::vector<std::string>{kAutotune, "pid+ff", "marlin-zn"}
+                                                              : controller_names();
   for (const std::string& n : names) out.push_back({n, n, ""});
   return out;
 }
@@ -63,7 +68,7 @@ void write_plots(const std::string& dir, const std::vector<BenchCase>& cases, co
 }  // namespace
 
 int bench_command(const std::vector<std::string>& args) {
-  const Options o = parse_options(args, {"markdown"});
+  const Options o = parse_options(args, {"markdown", "autotune"});
   reject_unknown(o, {"boards", "plants", "controllers", "variant", "target", "fan-step", "seconds", "jobs",
                      "noise-lsb", "seed", "gains", "gains-rule", "gcode", "csv-dir", "plots", "elf-dir"});
   if (o.has("plots") && !o.has("csv-dir")) throw std::invalid_argument("--plots needs --csv-dir");
@@ -83,14 +88,20 @@ int bench_command(const std::vector<std::string>& args) {
         RunConfig c;
         c.board = board_named(board);
         c.plant = plant_named(plant);
-        if (!s.controller.empty() && !controller_applies(s.controller, c.plant)) continue;
+        const bool tune = s.controller == kAutotune;
+        if (!tune && !s.controller.empty() && !controller_applies(s.controller, c.plant)) continue;
         c.target_c = parse_number(o.get("target", std::to_string(c.plant.default_target_c)), "--target");
         const double fan_s =
             parse_number(o.get("fan-step", std::to_string(c.plant.default_seconds)), "--fan-step");
         const double seconds = fan_s > 0 ? fan_s + c.plant.default_seconds / 2 : c.plant.default_seconds;
         c.seconds = parse_number(o.get("seconds", std::to_string(seconds)), "--seconds");
         c.elf_path = default_elf_path(elf_dir, c.board);
-        apply_common(o, c, s.controller);
+        apply_common(o, c, tune ? "" : s.controller);
+        if (tune) {
+          c.autotune = AutotuneConfig();
+          c.gains.reset();
+          c.gains_source.clear();
+        }
         const std::vector<TimedCommand> own = parse_gcode(s.gcode);
         c.gcode.insert(c.gcode.begin(), own.begin(), own.end());
         if (fan_s > 0) c.gcode.push_back(TimedCommand{"M106 S255", fan_s});

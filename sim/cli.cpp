@@ -30,8 +30,8 @@ const char* const kUsage = R"(usage:
              [--fault open@T|short@T|hang@T] [--check] [--max-overshoot C] [--max-steady-error C]
              [--max-report-error C] [--max-steady-p2p C] [--max-recovery S]
              [--max-recovery-ratio R] [--transcript FILE] [--quiet]
-             [--autotune [--tune-cycles N] [--tune-fan 0|1] [--max-tune-overshoot C]]
-  hotend-sim bench [--markdown] [--boards a,b] [--plants x,y] [--controllers a,b]
+             [--autotune [--tune-cycles N] [--tune-fan 0|1] [--tune-from C] [--max-tune-overshoot C]]
+  hotend-sim bench [--markdown] [--autotune] [--boards a,b] [--plants x,y] [--controllers a,b]
              [--variant NAME=GCODE]... [--target C] [--fan-step S] [--seconds S] [--jobs N]
              [--noise-lsb SIGMA] [--seed N] [--gains P,I,D | --gains-rule RULE] [--gcode "CMD@T"]
              [--csv-dir DIR] [--plots DIR] [--elf-dir DIR]
@@ -59,17 +59,21 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the cont
   reset + start + off.
   --transcript: the serial conversation with simulated times ("> " sent, "< " received).
   --autotune: the user story of issue 7 — `M303 E0 S<target> C<cycles> U1 F<0|1>` first (the
-  board identifies the hotend and designs its controllers), then a cool-down to 10 % of the way
+  board identifies the hotend and designs its controllers), then a cool-down to 2 % of the way
   from ambient to the target, then M104 and the timed commands as usual. The report adds the
   tune's duration, its maximum above S and the identified model; --check adds: the tune finished
-  and applied, never more than --max-tune-overshoot (5 °C) above S.
+  and applied, never more than --max-tune-overshoot (5 °C) above S. --tune-from C: a hot start
+  (M109 S<C> before M303). Timed commands and faults may count from M303's ok: "M108@tune+90",
+  --fault open@tune+60 (kinds also m108, m112: the host stops the tune).
 bench: every controller × board × plant (or the given ones) in parallel, heating to each
   plant's default target, a part-fan step 0 → 100 % at --fan-step s (default: the plant's
   default duration; 0 = none) and --seconds in all (default: fan step + half the default
   duration); prints one table and under it every problem or Error: line. --variant NAME=GCODE
   replaces the controllers by hand-made set-ups (the grid again per variant, with its G-code).
   --csv-dir writes each run's trace; --plots DIR (needs --csv-dir) one SVG per plant with every
-  controller on the first board.
+  controller on the first board. --autotune (or "autotune" in --controllers): M303 U1 first, then
+  the tuned controller's heat-up and fan step, beside pid+ff from the plant's own model and
+  marlin-zn (Marlin's M303); adds the tune's duration, maximum above S and the model found.
 plot: temperature and heater duty of several --csv runs against time in one SVG.
 )";
 
@@ -78,14 +82,14 @@ int run_command(const std::vector<std::string>& args) {
   reject_unknown(o, {"board", "plant", "controller", "target", "seconds", "csv", "noise-lsb", "seed", "gains",
                      "gains-rule", "gcode", "elf", "fault", "transcript", "max-overshoot", "max-steady-error",
                      "max-report-error", "max-steady-p2p", "max-recovery", "max-recovery-ratio",
-                     "tune-cycles", "tune-fan", "max-tune-overshoot"});
+                     "tune-cycles", "tune-fan", "tune-from", "max-tune-overshoot"});
   RunConfig c;
   c.board = board_named(o.get("board", "ramps14"));
   c.plant = plant_named(o.get("plant", "hotend40w"));
   c.target_c = parse_number(o.get("target", std::to_string(c.plant.default_target_c)), "--target");
   if (o.has("fault")) parse_fault(o.get("fault"), c);
   const double default_seconds =
-      c.fault == FaultKind::kNone ? c.plant.default_seconds : c.fault_at_s + kFaultRunTailS;
+      c.fault == FaultKind::kNone ? c.plant.default_seconds : (c.fault_in_tune ? 0.0 : c.fault_at_s) + kFaultRunTailS;
   c.seconds = parse_number(o.get("seconds", std::to_string(default_seconds)), "--seconds");
   c.csv_path = o.get("csv");
   c.elf_path = o.has("elf") ? o.get("elf") : default_elf_path(HOTEND_SIM_FIRMWARE_DIR, c.board);
@@ -95,6 +99,7 @@ int run_command(const std::vector<std::string>& args) {
     AutotuneConfig a;
     a.cycles = static_cast<int>(parse_number(o.get("tune-cycles", "5"), "--tune-cycles"));
     a.fan = parse_number(o.get("tune-fan", "1"), "--tune-fan") != 0;
+    if (o.has("tune-from")) a.hot_start_c = parse_number(o.get("tune-from"), "--tune-from");
     c.autotune = a;
     if (!o.has("gains")) {  // the tune designs them
       c.gains.reset();

@@ -42,7 +42,12 @@ std::vector<TimedCommand> parse_gcode(const std::string& text) {
     TimedCommand c;
     const auto at = line.rfind('@');
     if (at != std::string::npos) {
-      c.at_s = parse_number(trim(line.substr(at + 1)), "--gcode time");
+      std::string when = trim(line.substr(at + 1));
+      if (when.rfind("tune+", 0) == 0) {  // "M108@tune+120": 120 s after M303 was acknowledged
+        c.in_tune = true;
+        when = when.substr(5);
+      }
+      c.at_s = parse_number(when, "--gcode time");
       line = trim(line.substr(0, at));
     }
     c.line = line;
@@ -61,9 +66,16 @@ void parse_fault(const std::string& text, RunConfig& config) {
     config.fault = FaultKind::kShort;
   else if (kind == "hang")
     config.fault = FaultKind::kHang;
+  else if (kind == "m108")
+    config.fault = FaultKind::kM108;
+  else if (kind == "m112")
+    config.fault = FaultKind::kM112;
   else
-    throw std::invalid_argument("--fault: unknown kind \"" + kind + "\" (open, short, hang)");
-  config.fault_at_s = parse_number(text.substr(at + 1), "--fault time");
+    throw std::invalid_argument("--fault: unknown kind \"" + kind + "\" (open, short, hang, m108, m112)");
+  std::string when = text.substr(at + 1);
+  config.fault_in_tune = when.rfind("tune+", 0) == 0;  // "open@tune+60": during M303
+  if (config.fault_in_tune) when = when.substr(5);
+  config.fault_at_s = parse_number(when, "--fault time");
 }
 
 bool Options::has(const std::string& name) const {

@@ -16,9 +16,10 @@ std::string trim(const std::string& s);
 double parse_number(const std::string& text, const std::string& what);
 // "P,I,D" in Marlin units.
 MarlinGains parse_gains(const std::string& text);
-// "M301 P1 I2 D3;M106 S255@120" → {"M301 P1 I2 D3", untimed}, {"M106 S255", at 120 s}.
+// "M301 P1 I2 D3;M106 S255@120" → {"M301 P1 I2 D3", untimed}, {"M106 S255", at 120 s};
+// "M108@tune+90": 90 s after the `ok` to --autotune's M303.
 std::vector<TimedCommand> parse_gcode(const std::string& text);
-// "open@60", "short@60", "hang@60" → config.fault, config.fault_at_s.
+// "open@60", "short@60", "hang@60" → config.fault, config.fault_at_s; "open@tune+60" during M303.
 void parse_fault(const std::string& text, RunConfig& config);
 
 // --name value / --name=value pairs and bare flags.

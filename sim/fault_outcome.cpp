@@ -11,6 +11,8 @@ const char* expected_error(FaultKind kind) {
       return "MINTEMP";  // an open thermistor reads as very cold
     case FaultKind::kShort:
       return "MAXTEMP";  // a shorted one as very hot
+    case FaultKind::kM112:
+      return "Emergency stop";
     default:
       return "";
   }

@@ -11,7 +11,8 @@
 
 namespace sim {
 
-enum class FaultKind { kNone, kOpen, kShort, kHang };
+// kM108 / kM112: the host stops the heating (break-and-continue, emergency stop) at that time.
+enum class FaultKind { kNone, kOpen, kShort, kHang, kM108, kM112 };
 
 struct FaultOutcome {
   std::optional<double> heater_last_on_s;  // last moment the heater pin was on (nullopt: on at the end)

@@ -26,6 +26,33 @@ std::vector<PlantSpec> make_bank() {
                   seed000_4(), 25.0, 150.0, 3600.0});
   bank.push_back({"seed000-5", "5-state identified model (seed 000 eq. 3, Surmak & Piotrowski)",
                   seed000_5(), 25.0, 150.0, 3600.0});
+
+  // Hotends the tune was not designed on (issue 7): heaters 30–80 W, time constants 30–300 s,
+  // dead time or sensor lag 1–25 s. Two-node ones keep hotend40w's fan loss per watt of loss.
+  TwoNodeParams p30;
+  p30.heater_w = 30.0;
+  bank.push_back({"hotend30w", "two-node hotend40w with a 30 W cartridge (441 K at 100 %)", two_node(p30)});
+  TwoNodeParams p80;
+  p80.heater_w = 80.0;
+  bank.push_back({"hotend80w", "two-node hotend40w with an 80 W cartridge (1176 K at 100 %)", two_node(p80)});
+  TwoNodeParams light;
+  light.block_j_per_k = 6.0;
+  light.sensor_rate_per_s = 1.0;
+  bank.push_back({"light-fast", "light, fast block: 6 J/K, 40 W, sensor lag 1 s (T 88 s)", two_node(light)});
+  TwoNodeParams heavy;
+  heavy.block_j_per_k = 40.0;
+  heavy.heater_w = 60.0;
+  heavy.loss_w_per_k = 0.14;
+  heavy.loss_fan_w_per_k = 0.14 * 0.097 / 0.068;  // the same relative fan loss as hotend40w
+  heavy.sensor_rate_per_s = 1.0 / 25.0;
+  bank.push_back({"heavy-slow", "heavy, slow block: 40 J/K, 60 W, loss 0.14 W/K (0.20 with fan), sensor lag 25 s",
+                  two_node(heavy)});
+  LtiModel delayed = two_node();
+  delayed.delay_s = 5.0;
+  bank.push_back({"hotend40w-delay5", "hotend40w with its thermistor behind a 5 s transport delay", delayed});
+  bank.push_back({"fopdt-fast", "FOPDT T 30 s, dead time 1 s (450 K)", with_seed_fan(fopdt(kSeedRiseK, 30.0, 1.0))});
+  bank.push_back({"fopdt-slow", "FOPDT T 300 s, dead time 10 s (450 K)", with_seed_fan(fopdt(kSeedRiseK, 300.0, 10.0))});
+  bank.push_back({"fopdt-delay25", "FOPDT T 120 s, dead time 25 s (450 K)", with_seed_fan(fopdt(kSeedRiseK, 120.0, 25.0))});
   return bank;
 }
 

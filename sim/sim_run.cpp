@@ -27,7 +27,7 @@ constexpr int kStepsPerTraceSample = 128;
 constexpr double kReportLatencyS = 0.3;
 constexpr double kBootTimeoutS = 5.0;
 constexpr double kSetupTimeoutS = 30.0;
-constexpr double kTuneTimeoutS = 7200.0;  // M303 (its own limit: 30 min) plus the cool-down
+constexpr double kTuneTimeoutS = 10800.0;  // M303 (its own limit: 30 min) plus the cool-down (seed000: ~80 min)
 constexpr double kM105PeriodS = 5.0;  // M155 reports every second; M105 is polled as well
 constexpr double kRunChunkS = 0.25;
 
@@ -49,9 +49,11 @@ class Runner {
   void send_heat_up();
   void on_tune_line(const std::string& text, double t_s);
   void send_due_commands(double now_s);
+  void inject_fault(double now_s);
   void check_report(const TempReport& report);
   void record_trace(double now_s);
   void finish();
+  void evaluate_fault_outcome();
   bool before_fault(double t_s) const {
     return config_.fault == FaultKind::kNone || !fault_abs_s_ || t_s < *fault_abs_s_;
   }
@@ -64,6 +66,7 @@ class Runner {
   HostSession session_;
 
   std::vector<TimedCommand> timed_;  // sorted by at_s
+  std::vector<TimedCommand> tune_timed_;  // timed from M303's ok (line cleared once sent)
   std::size_t next_timed_ = 0;
   double next_m105_s_ = 0.0;
   double target_sent_c_ = 0.0;
@@ -91,7 +94,7 @@ Runner::Runner(const RunConfig& config)
       session_(board_) {
   result_.config = config;
   for (const TimedCommand& c : config.gcode)
-    if (c.at_s) timed_.push_back(c);
+    if (c.at_s) (c.in_tune ? tune_timed_ : timed_).push_back(c);
   std::stable_sort(timed_.begin(), timed_.end(),
                    [](const TimedCommand& a, const TimedCommand& b) { return *a.at_s < *b.at_s; });
 
@@ -147,20 +150,34 @@ void Runner::on_plant_step() {
 }
 
 void Runner::send_due_commands(double now_s) {
+  if (result_.tune) {  // commands and faults timed from the tune's start
+    const double t = now_s - result_.tune->start_s;
+    for (TimedCommand& c : tune_timed_)
+      if (!c.line.empty() && t >= *c.at_s) {
+        session_.send(c.line);
+        c.line.clear();
+      }
+    if (config_.fault_in_tune && !fault_abs_s_ && t >= config_.fault_at_s) inject_fault(now_s);
+  }
   if (!result_.heating_start_s) return;
   const double t = now_s - *result_.heating_start_s;
   while (next_timed_ < timed_.size() && t >= *timed_[next_timed_].at_s)
     session_.send(timed_[next_timed_++].line);
-  if (config_.fault != FaultKind::kNone && !fault_abs_s_ && t >= config_.fault_at_s) {
-    fault_abs_s_ = now_s;
-    if (config_.fault == FaultKind::kOpen) adc_.set_fault(SensorFault::kOpen);
-    if (config_.fault == FaultKind::kShort) adc_.set_fault(SensorFault::kShorted);
-    if (config_.fault == FaultKind::kHang) session_.send("D0");
-  }
+  if (config_.fault != FaultKind::kNone && !config_.fault_in_tune && !fault_abs_s_ && t >= config_.fault_at_s)
+    inject_fault(now_s);
   if (before_fault(now_s) && now_s >= next_m105_s_ && session_.idle()) {
     session_.send("M105");
     next_m105_s_ = now_s + kM105PeriodS;
   }
+}
+
+void Runner::inject_fault(double now_s) {
+  fault_abs_s_ = now_s;
+  if (config_.fault == FaultKind::kOpen) adc_.set_fault(SensorFault::kOpen);
+  if (config_.fault == FaultKind::kShort) adc_.set_fault(SensorFault::kShorted);
+  if (config_.fault == FaultKind::kHang) session_.send("D0");
+  if (config_.fault == FaultKind::kM108) session_.send("M108");
+  if (config_.fault == FaultKind::kM112) session_.send("M112");
 }
 
 void Runner::on_line(const ReplyLine& line) {
@@ -183,6 +200,7 @@ void Runner::start_setup() {
   session_.send("M155 S1");
   if (!config_.autotune) return send_heat_up();
   const AutotuneConfig& a = *config_.autotune;
+  if (a.hot_start_c) session_.send("M109 S" + format_decimal(*a.hot_start_c));
   session_.send("M303 E0 S" + format_decimal(config_.target_c) + " C" + std::to_string(a.cycles) +
                     " U" + (a.apply ? "1" : "0") + " F" + (a.fan ? "1" : "0"),
                 [this](double t_ok) {
@@ -287,6 +305,7 @@ RunResult Runner::run() {
       break;
     }
     if (result_.heating_start_s && t >= *result_.heating_start_s + config_.seconds) break;
+    if (config_.fault_in_tune && fault_abs_s_ && t >= *fault_abs_s_ + config_.seconds) break;
   }
   result_.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   finish();
@@ -304,6 +323,7 @@ void Runner::finish() {
   for (const std::string& p : session_.problems()) result_.problems.push_back(p);
   result_.transcript = session_.transcript();
   result_.bound = physical_bound(config_.plant, config_.target_c);
+  if (config_.fault_in_tune) return evaluate_fault_outcome();
   if (!result_.heating_start_s) return;
 
   const double t0 = *result_.heating_start_s;
@@ -312,6 +332,11 @@ void Runner::finish() {
   if (config_.fault != FaultKind::kNone) split_s = config_.fault_at_s;
   result_.metrics = compute_metrics(result_.trace, t0, config_.target_c, split_s);
 
+  evaluate_fault_outcome();
+  if (!config_.csv_path.empty()) write_trace_csv(config_.csv_path, result_.trace);
+}
+
+void Runner::evaluate_fault_outcome() {
   if (config_.fault != FaultKind::kNone && fault_abs_s_) {
     const PinMeter& heater = board_.heater();
     FaultRecord record;
@@ -323,7 +348,6 @@ void Runner::finish() {
     record.heater_turned_on_after_reset = heater.turn_on_count() > heater_turn_ons_at_that_reset_;
     result_.fault = evaluate_fault(record, session_.lines());
   }
-  if (!config_.csv_path.empty()) write_trace_csv(config_.csv_path, result_.trace);
 }
 
 }  // namespace

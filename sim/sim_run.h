@@ -27,6 +27,7 @@ struct MarlinGains {
 struct TimedCommand {
   std::string line;
   std::optional<double> at_s;
+  bool in_tune = false;  // at_s counts from the `ok` to M303 (--autotune), not from M104
 };
 
 // `--autotune`: M303 before the heat-up. The run sends `M303 E0 S<target> C<cycles> U1 F<fan>`,
@@ -36,7 +37,8 @@ struct AutotuneConfig {
   int cycles = 5;
   bool fan = true;
   bool apply = true;
-  double cool_to_fraction = 0.1;
+  double cool_to_fraction = 0.02;
+  std::optional<double> hot_start_c;  // `M109 S<this>` first: a hot start, as after a print
 };
 
 // What the harness saw of a tune: the firmware's own lines, parsed.
@@ -67,7 +69,8 @@ struct RunConfig {
   std::string gains_source;          // how `gains` were chosen, for the report
   std::vector<TimedCommand> gcode;
   FaultKind fault = FaultKind::kNone;
-  double fault_at_s = 0.0;  // after the heating start
+  double fault_at_s = 0.0;  // after the heating start (or after M303's ok: fault_in_tune)
+  bool fault_in_tune = false;
   std::string csv_path;
   std::optional<AutotuneConfig> autotune;
 };

@@ -94,7 +94,8 @@ TEST(PhysicalBound, NoControllerBeatsIt) {
     const auto s = full_power_step_response_k(spec, 0.02, static_cast<std::size_t>(b.settling_s / 0.02) + 10);
     std::size_t k = 0;
     while (s[k] < spec.default_target_c - 1.0 - spec.ambient_c) ++k;
-    EXPECT_GE(b.settling_s + 0.02, double(k + 1) * 0.02) << spec.name;
+    // The bound is computed on a 50 ms grid, this on a 20 ms one: they may differ by a step.
+    EXPECT_GE(b.settling_s + 0.05, double(k + 1) * 0.02) << spec.name;
   }
 }
 

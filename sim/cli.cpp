@@ -10,6 +10,7 @@
 
 #include "sim/bench_command.h"
 #include "sim/cli_args.h"
+#include "sim/tune_plot.h"
 #include "sim/default_gains.h"
 #include "sim/plant_model.h"
 #include "sim/report.h"
@@ -30,7 +31,9 @@ const char* const kUsage = R"(usage:
              [--fault open@T|short@T|hang@T] [--check] [--max-overshoot C] [--max-steady-error C]
              [--max-report-error C] [--max-steady-p2p C] [--max-recovery S]
              [--max-recovery-ratio R] [--transcript FILE] [--quiet]
-             [--autotune [--tune-cycles N] [--tune-fan 0|1] [--tune-from C] [--max-tune-overshoot C]]
+             [--autotune [--tune-cycles N] [--tune-fan 0|1] [--tune-from C] [--max-tune-overshoot C]
+             [--max-model-error PCT]]
+             [--svg FILE]
   hotend-sim bench [--markdown] [--autotune] [--boards a,b] [--plants x,y] [--controllers a,b]
              [--variant NAME=GCODE]... [--target C] [--fan-step S] [--seconds S] [--jobs N]
              [--noise-lsb SIGMA] [--seed N] [--gains P,I,D | --gains-rule RULE] [--gcode "CMD@T"]
@@ -65,6 +68,8 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the cont
   and applied, never more than --max-tune-overshoot (5 °C) above S. --tune-from C: a hot start
   (M109 S<C> before M303). Timed commands and faults may count from M303's ok: "M108@tune+90",
   --fault open@tune+60 (kinds also m108, m112: the host stops the tune).
+  --svg FILE: temperature and duty against time; with --autotune from M303 on, with the response
+  of the model the tune identified (simulated on the same duties) laid over the hotend's.
 bench: every controller × board × plant (or the given ones) in parallel, heating to each
   plant's default target, a part-fan step 0 → 100 % at --fan-step s (default: the plant's
   default duration; 0 = none) and --seconds in all (default: fan step + half the default
@@ -82,7 +87,7 @@ int run_command(const std::vector<std::string>& args) {
   reject_unknown(o, {"board", "plant", "controller", "target", "seconds", "csv", "noise-lsb", "seed", "gains",
                      "gains-rule", "gcode", "elf", "fault", "transcript", "max-overshoot", "max-steady-error",
                      "max-report-error", "max-steady-p2p", "max-recovery", "max-recovery-ratio",
-                     "tune-cycles", "tune-fan", "tune-from", "max-tune-overshoot"});
+                     "tune-cycles", "tune-fan", "tune-from", "max-tune-overshoot", "max-model-error", "svg"});
   RunConfig c;
   c.board = board_named(o.get("board", "ramps14"));
   c.plant = plant_named(o.get("plant", "hotend40w"));
@@ -117,10 +122,28 @@ int run_command(const std::vector<std::string>& args) {
   if (o.has("max-recovery-ratio"))
     limits.max_recovery_bound_ratio = parse_number(o.get("max-recovery-ratio"), "--max-recovery-ratio");
   limits.max_tune_overshoot_c = parse_number(o.get("max-tune-overshoot", "5"), "--max-tune-overshoot");
+  if (o.has("max-model-error"))
+    limits.max_model_error = parse_number(o.get("max-model-error"), "--max-model-error") / 100.0;
 
   const RunResult result = run_simulation(c);
   if (!o.has("quiet")) print_report(std::cout, result);
   if (o.has("transcript")) write_transcript(o.get("transcript"), result.transcript);
+  if (o.has("svg")) {
+    std::vector<PlotSeries> series = tune_plot_series(result);
+    const std::string title = c.plant.name + " on " + c.board.id +
+                              (series.empty() ? std::string(": the run") : ": M303, then the tuned heat-up and a fan step");
+    if (series.empty()) {  // no tune: the run's own trace
+      PlotSeries s{c.controller.empty() ? "firmware" : c.controller, {}, {}, {}, {}};
+      for (const TraceSample& t : result.trace) {
+        s.time_s.push_back(t.t_s);
+        s.true_c.push_back(t.true_c);
+        s.target_c.push_back(t.target_c);
+        s.heater_duty.push_back(t.heater_duty);
+      }
+      series.push_back(s);
+    }
+    write_svg_plot(o.get("svg"), title, series);
+  }
   if (!o.has("check")) return 0;
   const std::vector<std::string> failed = failed_checks(result, limits);
   for (const std::string& f : failed) std::cout << "CHECK FAILED: " << f << "\n";

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "sim/plant_model.h"
+
 namespace sim {
 namespace {
 
@@ -128,6 +130,19 @@ std::vector<std::string> failed_checks(const RunResult& r, const CheckLimits& li
               "M303 reached " + format_fixed(r.tune->max_true_c - r.config.target_c, 2) + " °C above S > " +
                   format_fixed(limits.max_tune_overshoot_c, 2));
     if (r.config.autotune->apply) require(r.tune && r.tune->applied, "M303 U1 did not apply its result");
+    const HotendModelSetting truth = hotend_model_for(r.config.plant);
+    if (limits.max_model_error && r.tune && r.tune->finished && truth.source == "exact FOPDT") {
+      const double e = *limits.max_model_error;
+      auto within = [&](const char* what, double got, double want, double limit) {
+        require(std::fabs(got - want) <= limit * want, std::string("tuned ") + what + " " + format_fixed(got, 2) +
+                                                            " vs the plant's " + format_fixed(want, 2) + ": more than " +
+                                                            format_fixed(100.0 * limit, 0) + " % off");
+      };
+      within("A (gain)", r.tune->a, truth.rise_k, e);
+      within("C (time constant)", r.tune->c, truth.time_constant_s, e);
+      within("D (dead time)", r.tune->d, truth.dead_time_s, e);
+      within("F (fan loss)", r.tune->f, truth.fan_loss_pct, 2.0 * e);
+    }
   }
   if (!r.config.fault_in_tune) require(r.heating_start_s.has_value(), "the firmware never acknowledged M104");
   require(r.cpu == CpuState::kRunning, "the simulated CPU stopped or crashed");

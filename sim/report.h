@@ -26,6 +26,9 @@ struct CheckLimits {
   // --autotune runs: the tune must finish (and apply, with U1) without the true temperature
   // ever passing S + this (issue 7).
   double max_tune_overshoot_c = 5.0;
+  // On plants that are exactly FOPDT: the tuned M307 A, C, D within this fraction of the
+  // plant's, F within twice it (issue 7: 10 % and 20 %). Off unless given.
+  std::optional<double> max_model_error;
 };
 
 void print_report(std::ostream& out, const RunResult& result);

@@ -206,6 +206,7 @@ void Runner::start_setup() {
                 [this](double t_ok) {
                   result_.tune = TuneOutcome();
                   result_.tune->start_s = t_ok;
+                  target_sent_c_ = config_.target_c;
                 });
 }
 
@@ -236,8 +237,10 @@ void Runner::on_tune_line(const std::string& text, double t_s) {
   if (starts("echo:Autotune applied")) tune.applied = true;
   // The last line of every ending: applied / not applied, or the failure itself.
   if (starts("echo:Autotune applied") || starts("echo:Autotune not applied") || starts("PID Autotune failed!") ||
-      (tune.end_s && starts("Error:")))
+      (tune.end_s && starts("Error:"))) {
     cooling_ = true;
+    target_sent_c_ = 0.0;  // the firmware switched the heater off
+  }
 }
 
 void Runner::send_heat_up() {

@@ -80,10 +80,13 @@ void Autotune::configure(uint16_t period_ms, uint16_t timeout_s) {
   t60_ = static_cast<uint16_t>(ticks_from_s(60));
   t90_ = static_cast<uint16_t>(ticks_from_s(90));
   t600_ = static_cast<uint16_t>(ticks_from_s(600));  // ≤ 60,000 at 10 ms
-  // ticks → s × 256 = ticks · period_ms · 256/1000, as a whole + Q16 multiplier.
-  const fixed::Multiplier m = fixed::multiplier_ratio(period_ms_, 256, 1000);
-  tick_s_whole_ = m.whole;
-  tick_s_frac_ = m.frac_q16;
+  // ticks → s × 256 = ticks · period_ms · 256/1000, as a whole + Q16 multiplier (period·256
+  // ≤ 512,000; the remainder < 1000, × 2^16 < 2^26).
+  const uint32_t ms256 = uint32_t{period_ms_} * 256u;
+  tick_s_whole_ = ms256 / 1000u;
+  const uint32_t frac = ((ms256 % 1000u) * 65536u + 500u) / 1000u;
+  if (frac > 0xFFFFu) ++tick_s_whole_;
+  tick_s_frac_ = static_cast<uint16_t>(frac > 0xFFFFu ? 0 : frac);
 }
 
 // s → ticks: s ≤ 65535, ·1000 < 2^26.
@@ -95,9 +98,15 @@ int32_t Autotune::seconds_q8(uint16_t ticks) const {
 }
 
 bool Autotune::start(int32_t target_q8, uint8_t cycles, bool measure_fan, int32_t ambient_q8) {
-  const uint16_t period_ms = period_ms_;
+  const uint16_t period_ms = period_ms_ != 0 ? period_ms_ : 128;
   const uint32_t timeout_ticks = timeout_ticks_;
-  *this = Autotune();  // forget the last run, keep the configuration
+  // Forget the last run, keep the configuration. Byte by byte (every member is a plain integer,
+  // enum or array of them, all defaulting to 0): `*this = Autotune()` made avr-gcc build a
+  // 750-byte temporary on the stack.
+  static_assert(__is_trivially_copyable(Autotune), "start() clears the object byte by byte");
+  uint8_t* bytes = reinterpret_cast<uint8_t*>(this);
+  for (uint16_t i = 0; i < sizeof(Autotune); ++i) bytes[i] = 0;
+  ambient_q8_ = kDefaultAmbientQ8;
   configure(period_ms, 1800);
   if (timeout_ticks != 0) timeout_ticks_ = timeout_ticks;
   state_ = AutotuneState::kRunning;

@@ -166,13 +166,15 @@ class Autotune {
   uint8_t fan_ = 0;
   uint16_t duty_q16_ = 0;
   uint16_t half_ticks_ = 0;
+  int32_t slope_q8_ = 0;        // S: rise per bin at 100 % (°C × 256)
+  uint16_t inv_t_q16_ = 0;      // loss rate 1/T per bin, Q16
+  uint8_t horizon_bins_ = 0;
+  int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)
+  int32_t offset_q8_ = 0;
   int32_t target_q8_ = 0;
-  int32_t ambient_q8_ = kDefaultAmbientQ8;
-  int32_t bin_sum_q8_ = 0;
+  int32_t ambient_q8_ = 0;  // (kDefaultAmbientQ8 from start() unless measured or given)
   uint16_t bin_duty_sum_ = 0;  // Σ duty q8 over the bin (≤ 8·256)
-  uint16_t bins_ = 0;          // completed bins in this phase
   int32_t y_bin_q8_ = 0;       // last completed bin mean
-  uint32_t tick_ = 0;
   bool relay_hi_ = false;
   bool heater_on_ = false;
   bool probe_pending_ = false;  // start the probe at the next bin boundary
@@ -183,12 +185,16 @@ class Autotune {
   int32_t cyc_min_q8_ = 0, cyc_max_q8_ = 0;
   int32_t cyc_sum_dev_ = 0;     // Σ (y − target) over the cycle's ticks (q8)
   uint32_t cyc_sum_duty_ = 0;   // Σ duty q16 over the cycle's ticks
-  uint16_t probe_ticks_ = 0;
-  uint16_t on_ticks_ = 0;
   uint16_t last_bin_duty_q8_ = 0;  // mean duty of the last bin, 256 = 100 %
 
+  int32_t bin_sum_q8_ = 0;
+  uint32_t tick_ = 0;
+  uint16_t probe_ticks_ = 0;
+  uint16_t on_ticks_ = 0;
+  uint16_t bins_ = 0;          // completed bins in this phase
+
   // Configuration.
-  uint16_t period_ms_ = 128;
+  uint16_t period_ms_ = 0;  // 0: not configured (128 ms). All defaults 0: the object is .bss, not .data
   uint32_t timeout_ticks_ = 0;
   bool ambient_given_ = false;
   uint8_t cycles_ = 0;
@@ -200,7 +206,6 @@ class Autotune {
   // Bin averaging and the duty history.
   int32_t y_prev_q8_ = 0;      // the bin before the last
   int32_t y_prev2_q8_ = 0;
-  int32_t offset_q8_ = 0;
   int32_t y_hist_q8_[4] = {};      // bin means 1..4 bins ago (4-bin slope)
   int32_t yf_ring_[4] = {};    // last 4 readings (relay filter)
 
@@ -230,14 +235,10 @@ class Autotune {
   uint8_t retries_ = 0;
 
   // Model for the approach.
-  int32_t slope_q8_ = 0;        // S: rise per bin at 100 % (°C × 256)
   int32_t horizon_ticks_ = 0;   // L̂
-  uint8_t horizon_bins_ = 0;
-  uint16_t inv_t_q16_ = 0;      // loss rate 1/T per bin, Q16
   int32_t gain_q8_ = 0;         // approach P gain: duty_q16 per temp_q8, × 256
   int32_t steady_q16_ = 0;      // ū: steady duty estimate (integral part)
   uint8_t settled_bins_ = 0;
-  int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)
   int32_t ref_rise_q8_ = 0;
   int32_t ref_slope_q8_ = 0;     // loss learning: rise where the slope S was measured
   uint8_t full_bins_ = 0;       // consecutive bins at 100 % in the approach

@@ -20,7 +20,9 @@
 //             from its drift; then (approach again with the part fan at 100 %) the same with fan
 //   compute   K from mean temperature / mean duty; T and L from the relay's asymmetric-FOPDT
 //             formulas (lag-type hotends: T from the heat-up slope, L from the relay amplitude);
-//             F from the fan cycles' mean duty; one stored cycle per step
+//             F from the fan cycles' mean duty; one small piece per step (≈ 110 steps)
+// The slow logic runs in pieces of at most one 32-bit division each, one piece per step, so that
+// every step() stays cheap on AVR (see the cost notes at the top of autotune.cpp).
 #pragma once
 
 #include <stdint.h>
@@ -119,6 +121,7 @@ class Autotune {
   int32_t slope_q8() const { return slope_q8_; }          // S: °C×256 per bin at full duty
   int32_t horizon_ticks() const { return horizon_ticks_; }  // L̂
   uint16_t inv_t_q16() const { return inv_t_q16_; }         // 1/T per bin, Q16
+  uint8_t overruns() const { return overruns_; }  // bin logic not finished within its bin (0)
 
  private:
   struct StoredCycle {
@@ -130,57 +133,81 @@ class Autotune {
 
   void fail(AutotuneFailure why);
   void enter(Phase p);
-  void on_bin();             // every kTicksPerBin ticks: the slow logic of the current phase
-  void probe_bin();
-  void approach_bin();
+  void bin_end();            // the tick a bin completes: its means and histories only
+  uint8_t bin_stage(uint8_t stage);  // one piece of the bin's slow logic; the next stage or 0
+  uint8_t baseline_stage(uint8_t stage);
+  uint8_t probe_stage(uint8_t stage);
+  uint8_t begin_stage(uint8_t stage);
+  uint8_t approach_stage(uint8_t stage);
+  uint8_t relay_stage(uint8_t stage);
   void model_bin();
+  void model_anchor();
   void start_probe();
-  void begin_approach(int32_t s, int32_t horizon_ticks, uint16_t inv_t_q16, uint8_t on_bins);
   int32_t steady_from_model() const;
   void set_levels();
-  void relay_bin();
-  void relay_tick(int32_t yf_q8, int32_t y_q8);
+  bool relay_tick(int32_t yf, int32_t y);  // true when a cycle ended
   void end_cycle(uint16_t t_lo);
+  uint8_t cycle_stage(uint8_t stage);
   bool compute_chunk();      // one piece of the final arithmetic; true when done
-  int32_t seconds_q8(uint32_t ticks) const;
+  int32_t seconds_q8(uint16_t ticks) const;
   uint32_t ticks_from_s(uint16_t s) const;
   int32_t model_ago(uint8_t bins) const;
-  uint8_t duty_ago(uint8_t bins) const;  // the model state `bins` bins ago (°C×256 rise)
+  uint8_t duty_ago(uint8_t bins) const;
+  uint8_t ring_index(uint8_t bins) const;
 
-  // Configuration.
-  uint16_t period_ms_ = 128;
-  uint32_t timeout_ticks_ = 0;
-  int32_t target_q8_ = 0;
-  int32_t ambient_q8_ = kDefaultAmbientQ8;
-  bool ambient_given_ = false;
-  uint8_t cycles_ = 0;
-  bool measure_fan_ = false;
-
-  // Run state.
+  // Hot scalars first: avr-gcc reaches members at offsets < 64 with one instruction.
   AutotuneState state_ = AutotuneState::kIdle;
   AutotuneFailure failure_ = AutotuneFailure::kNone;
   Phase phase_ = Phase::kIdle;
   AutotuneEvent event_ = AutotuneEvent::kNone;
-  uint32_t tick_ = 0;
-  uint16_t duty_q16_ = 0;
+  uint8_t stage_ = 0;          // next piece of the bin logic (0: none pending)
+  uint8_t cycle_stage_ = 0;    // next piece of a relay cycle's end (0: none pending)
+  uint8_t bin_ticks_ = 0;
   uint8_t fan_ = 0;
+  uint16_t duty_q16_ = 0;
+  uint16_t half_ticks_ = 0;
+  int32_t slope_q8_ = 0;        // S: rise per bin at 100 % (°C × 256)
+  uint16_t inv_t_q16_ = 0;      // loss rate 1/T per bin, Q16
+  uint8_t horizon_bins_ = 0;
+  int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)
+  int32_t offset_q8_ = 0;
+  int32_t target_q8_ = 0;
+  int32_t ambient_q8_ = 0;  // (kDefaultAmbientQ8 from start() unless measured or given)
+  uint16_t bin_duty_sum_ = 0;  // Σ duty q8 over the bin (≤ 8·256)
+  int32_t y_bin_q8_ = 0;       // last completed bin mean
+  bool relay_hi_ = false;
+  bool heater_on_ = false;
+  bool probe_pending_ = false;  // start the probe at the next bin boundary
+  uint8_t yf_head_ = 0;
+  uint8_t ring_head_ = 0;
+  uint16_t bias_q16_ = 0;
+  uint16_t d_q16_ = 0;
+  int32_t cyc_min_q8_ = 0, cyc_max_q8_ = 0;
+  int32_t cyc_sum_dev_ = 0;     // Σ (y − target) over the cycle's ticks (q8)
+  uint32_t cyc_sum_duty_ = 0;   // Σ duty q16 over the cycle's ticks
+  uint16_t last_bin_duty_q8_ = 0;  // mean duty of the last bin, 256 = 100 %
+
+  int32_t bin_sum_q8_ = 0;
+  uint32_t tick_ = 0;
+  uint16_t probe_ticks_ = 0;
+  uint16_t on_ticks_ = 0;
+  uint16_t bins_ = 0;          // completed bins in this phase
+
+  // Configuration.
+  uint16_t period_ms_ = 0;  // 0: not configured (128 ms). All defaults 0: the object is .bss, not .data
+  uint32_t timeout_ticks_ = 0;
+  bool ambient_given_ = false;
+  uint8_t cycles_ = 0;
+  bool measure_fan_ = false;
+  uint16_t t6_ = 0, t40_ = 0, t60_ = 0, t90_ = 0, t600_ = 0;  // ticks in 6, 40, 60, 90, 600 s
+  uint32_t tick_s_whole_ = 0;  // s × 256 per tick: whole and Q16 fraction (seconds_q8)
+  uint16_t tick_s_frac_ = 0;
 
   // Bin averaging and the duty history.
-  int32_t bin_sum_q8_ = 0;
-  uint16_t bin_duty_sum_ = 0;  // Σ duty q8 over the bin (≤ 8·256)
-  uint8_t bin_ticks_ = 0;
-  int32_t y_bin_q8_ = 0;       // last completed bin mean
-  int32_t y_prev_q8_ = 0;      // the one before
+  int32_t y_prev_q8_ = 0;      // the bin before the last
   int32_t y_prev2_q8_ = 0;
-  uint16_t bins_ = 0;          // completed bins in this phase
-  int16_t ring_[kRingBins] = {};  // Smith predictor: model's undelayed rise per bin − offset, °C × 16
-  uint8_t duty_ring_[kRingBins] = {};  // mean duty per bin, 255 = 100 %
-  int32_t offset_q8_ = 0;
-  uint8_t ring_head_ = 0;
-  uint16_t last_bin_duty_q8_ = 0;  // mean duty of the last bin, 256 = 100 %
   int32_t y_hist_q8_[4] = {};      // bin means 1..4 bins ago (4-bin slope)
   int32_t yf_ring_[4] = {};    // last 4 readings (relay filter)
-  uint8_t yf_head_ = 0;
 
   // Baseline / probe.
   int32_t y0_q8_ = 0;
@@ -189,10 +216,7 @@ class Autotune {
   int32_t start_q8_ = 0;       // reading at start()
   bool hot_start_ = false;
   uint16_t cap_ticks_ = 0;     // energy cap of the probe's pulse
-  uint16_t on_ticks_ = 0;
-  uint32_t off_tick_ = 0;      // tick (since probe start) the pulse ended
-  uint16_t probe_ticks_ = 0;
-  bool heater_on_ = false;
+  uint16_t off_tick_ = 0;      // tick (since probe start) the pulse ended
   bool extend_ = false;        // pulse extended past the cap (response seen, still steepening)
   bool cooled_ = false;        // a hot start has shown its decay
   int32_t cool_ref_q8_ = 0;
@@ -204,8 +228,6 @@ class Autotune {
   int32_t slope_max_dev_q8_ = 0;  // deviation at the centre of the steepest window
   bool continuous_ = false;
   int32_t max_centre_tick_ = 0;
-  bool integrating_ = false;       // the probe went on into a steady heat-up (no cut)
-  int32_t dev_off_q8_ = 0;     // deviation at the cut
   int32_t dev_peak_q8_ = 0;
   uint16_t peak_bin_ = 0;
   bool peaked_ = false;
@@ -213,42 +235,39 @@ class Autotune {
   uint8_t retries_ = 0;
 
   // Model for the approach.
-  int32_t slope_q8_ = 0;        // S: rise per bin at 100 % (°C × 256)
   int32_t horizon_ticks_ = 0;   // L̂
-  uint8_t horizon_bins_ = 0;
-  uint16_t inv_t_q16_ = 0;      // loss rate 1/T per bin, Q16
   int32_t gain_q8_ = 0;         // approach P gain: duty_q16 per temp_q8, × 256
-  uint8_t tau_bins_ = 0;        // closed-loop time constant of the approach
   int32_t steady_q16_ = 0;      // ū: steady duty estimate (integral part)
   uint8_t settled_bins_ = 0;
-  int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)
   int32_t ref_rise_q8_ = 0;
   int32_t ref_slope_q8_ = 0;     // loss learning: rise where the slope S was measured
   uint8_t full_bins_ = 0;       // consecutive bins at 100 % in the approach
   int32_t duty_avg_q16_ = 0;    // smoothed approach duty (relay bias)
+  // The model's history before the approach, generated one entry per bin as it is first read
+  // (instead of all L̂ entries at once): entry j bins before the approach began.
+  int32_t fill_x_q8_ = 0;
+  uint8_t fill_j_ = 0;          // entries j ≥ fill_j_ written
+  uint8_t fill_on_ = 0;         // the last fill_on_ bins were at full power
+  uint16_t fill_a_q16_ = 0;     // 1/T the history runs with
+  uint8_t fill_head_ = 0;       // ring_head_ when the approach began
+  int32_t pending_q8_ = 0;      // a value carried from one stage to the next
 
   // Relay.
-  bool relay_hi_ = false;
-  uint16_t bias_q16_ = 0;
-  uint16_t d_q16_ = 0;
-  uint16_t half_ticks_ = 0;
   uint16_t longest_half_ = 0;
   uint16_t last_nudge_ = 0;
   uint16_t t_hi_ = 0;
-  int32_t cyc_min_q8_ = 0, cyc_max_q8_ = 0;
   int32_t sw_hi_q8_ = 0, sw_lo_q8_ = 0;
-  int32_t cyc_sum_dev_ = 0;     // Σ (y − target) over the cycle's ticks (q8)
-  uint32_t cyc_sum_duty_ = 0;   // Σ duty q16 over the cycle's ticks
+  uint16_t period_ticks_ = 0;    // the completed cycle's period (its end's stages)
+  int32_t cyc_a_q8_ = 0;         // ... its half amplitude
+  uint32_t cyc_duty_done_ = 0;   // ... its Σ duty
   uint8_t cycle_index_ = 0;     // completed cycles in the current (fan or no-fan) part
   bool fan_part_ = false;
   bool fan_pending_ = false;     // the fan is on: the next relay is the fan part
   uint8_t nofan_measure_ = 0, fan_skip_ = 0, fan_measure_ = 0;
   bool started_cycle_ = false;
-  // Sums over measured cycles: [0] no fan, [1] fan.
-  int32_t sum_dev_[2] = {};     // Σ (y − target) per tick, q8 (|·| ≤ 2^31 for ≤ 30k ticks of ±256 °C... see cpp)
+  int32_t sum_dev_[2] = {};     // Σ (y − target) per tick over measured cycles, [0] no fan, [1] fan
   uint32_t sum_duty_[2] = {};   // Σ duty q16 >> 4 per tick
   uint32_t sum_ticks_[2] = {};
-  StoredCycle stored_[kMaxStoredCycles] = {};
   uint8_t stored_count_ = 0;
   uint32_t ku_sum_q8_ = 0, tu_sum_q8_ = 0;
   uint8_t ku_count_ = 0;
@@ -260,10 +279,18 @@ class Autotune {
   uint8_t tl_count_ = 0;
   int32_t lambda_sum_q16_ = 0;
   int32_t slope_rise_q8_ = 0;   // rise at the centre of the steepest heat-up window
+  int32_t c_mean_q8_ = 0, c_duty_ = 0;  // compute temporaries
+  int32_t c_lambda_ = 0, c_ln_ = 0, c_log_ = 0, c_a_hi_ = 0, c_a_lo_ = 0;
+  uint32_t c_theta_ = 0;
   uint8_t crossings_ = 0;
   uint8_t steady_bins_ = 0;     // bins the duty has stayed near steady_ref_
   int16_t steady_ref_ = 0;
   int8_t side_ = 0;
+  uint8_t overruns_ = 0;        // bins whose stages were not done before the next (tests: 0)
+
+  int16_t ring_[kRingBins] = {};  // Smith predictor: model's undelayed rise per bin − offset, °C × 16
+  uint8_t duty_ring_[kRingBins] = {};  // mean duty per bin, 255 = 100 %
+  StoredCycle stored_[kMaxStoredCycles] = {};
 
   AutotuneCycle cycle_{0, 0, 0, 0};
   AutotuneUltimate ultimate_{0, 0};

@@ -32,15 +32,4 @@ TEST(FixedMath, LnRatioWorstError) {
   EXPECT_LT(worst * 65536, 6.0);
 }
 
-TEST(FixedMath, ExpNegWorstError) {
-  double worst = 0;
-  uint32_t at = 0;
-  for (uint32_t x = 0; x < (13u << 16); x += 7) {
-    const double err = std::fabs(fixed_math::exp_neg_q16(x) / 65536.0 - std::exp(-(x / 65536.0)));
-    if (err > worst) { worst = err; at = x; }
-  }
-  std::printf("exp_neg_q16: worst |error| %.2e (%.2f units of 2^-16) at x = %.4f\n", worst, worst * 65536, at / 65536.0);
-  EXPECT_LT(worst * 65536, 6.0);
-}
-
 }  // namespace

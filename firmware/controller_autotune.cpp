@@ -41,6 +41,7 @@ bool AutotuneJob::begin(const gcode::Command& cmd, gcode::Output& out, const gco
     out.error_line(refusal);
     return false;
   }
+  tune_.configure(kControlPeriodMs);
   if (!tune_.start(target_q8, static_cast<uint8_t>(cycles), fan != 0)) {  // cannot fail: checked above
     out.error_line(GCODE_TEXT("PID Autotune failed! Bad parameters"));
     return false;

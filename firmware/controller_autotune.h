@@ -26,7 +26,8 @@ class AutotuneJob {
  public:
   enum class Stop : uint8_t { kUser, kFault };  // M108 / M104 S0 / M112, or a latched fault
 
-  explicit AutotuneJob(ControllerBank& bank) : bank_(bank) { tune_.configure(kControlPeriodMs); }
+  // constexpr: the global instance is zero-initialised (.bss), with no start-up code.
+  explicit constexpr AutotuneJob(ControllerBank& bank) : bank_(bank) {}
 
   // M303 (the command is M303): prints the Error line and returns false for bad parameters or
   // when `refusal` (the machine's reason, e.g. a latched fault) is set; else starts the tune,

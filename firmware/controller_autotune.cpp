@@ -153,7 +153,7 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   out.print(r.hot_start ? GCODE_TEXT("echo:Autotune model (hot start: cool-down, relay")
                         : GCODE_TEXT("echo:Autotune model (cold start: heat-up, relay"));
   out.print(r.model.fan_loss_pct_q8 != 0 ? GCODE_TEXT(", part fan): ") : GCODE_TEXT("): "));
-  write_m307(out, d.model);
+  write_m307(out, r.model);
   out.print(GCODE_TEXT("echo:Autotune PID (SIMC PI on that model, dead time "));
   out.write_q8(d.design_dead_time_q8);
   out.print(GCODE_TEXT(" s): M301 P"));
@@ -165,7 +165,8 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   out.print(GCODE_TEXT("\necho:Autotune state feedback: not designed on the board; M311 uploads it "
                        "(hotend-design)\n"));
   if (!apply_) {
-    out.print(GCODE_TEXT("echo:Autotune not applied (U0): send the M307 and M301 lines, or M303 U1\n"));
+    out.print(GCODE_TEXT("echo:Autotune not applied (U0); U1 would set M310 S0 F1, the M301 above and "));
+    write_m307(out, d.model);
     return;
   }
   Settings next = bank_.settings();
@@ -174,8 +175,8 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   next.controller = static_cast<uint8_t>(ControllerId::kPid);
   next.feedforward = 1;
   if (const gcode::FlashText* refusal = bank_.apply(next, now)) return out.error_line(refusal);
-  out.print(GCODE_TEXT("echo:Autotune applied (U1): M307, M301, M310 S0 F1 (PID following the model's "
-                       "heat-up); M500 stores them\n"));
+  out.print(GCODE_TEXT("echo:Autotune applied (U1): M310 S0 F1 (PID following the model's heat-up), "));
+  write_m307(out, d.model);  // the design's dead time: see control/autotune_design.h
 }
 
 }  // namespace firmware

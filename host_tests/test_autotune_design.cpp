@@ -1,0 +1,98 @@
+// The PID gains M303 designs on the board (control/autotune_design.h, integer-only) against the
+// host's double-precision rule (design/tuning.h: SIMC PI, τc = 2L) on the same model, over the
+// range of models a tune can report; and the closed loop of both gain sets on the same plant.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "control/autotune_design.h"
+#include "control/pid.h"
+#include "design/lti_model.h"
+#include "design/plant_sim.h"
+#include "design/tuning.h"
+
+namespace {
+
+control::AutotuneResult tune_of(double k, double t, double l, double tu, double f = 42.6) {
+  control::AutotuneResult r{};
+  r.model = control::HotendModel{static_cast<int32_t>(std::lround(k * 256)), static_cast<int32_t>(std::lround(t * 256)),
+                                 static_cast<int32_t>(std::lround(l * 256)), static_cast<int32_t>(std::lround(f * 256))};
+  r.ultimate = control::AutotuneUltimate{0, static_cast<int32_t>(std::lround(tu * 256))};
+  return r;
+}
+
+double q8(double x) { return std::lround(x * 256) / 256.0; }  // what the board is given
+
+// The host's design of the same (Q8) model: the dead time the board's rule uses, then SIMC τc = 2L.
+tuning::MarlinGains host_gains(double k, double t, double l, double tu) {
+  k = q8(k), t = q8(t), l = q8(l), tu = q8(tu);
+  const double l_eff = std::fmax(std::fmax(l, tu / 4.0), control::kMinDesignDeadTimeQ8 / 256.0);
+  return tuning::simc(tuning::Fopdt{k, t, l_eff}, 2.0 * l_eff);
+}
+
+TEST(AutotuneDesign, PidGainsMatchTheDoubleSimcRuleOverTheModelRange) {
+  double worst_kp = 0, worst_ki = 0;
+  int count = 0;
+  for (double k : {100.0, 300.0, 450.0, 600.0, 1200.0, 2000.0})
+    for (double t : {10.0, 30.0, 88.0, 245.0, 600.0, 3000.0})
+      for (double l : {0.0, 0.6, 1.0, 4.6, 20.7, 60.0})
+        for (double tu : {0.0, 8.0, 14.0, 65.0}) {
+          control::TunedDesign d;
+          const bool ok = control::design_from_tune(tune_of(k, t, l, tu), 128, &d);
+          const tuning::MarlinGains want = host_gains(k, t, l, tu);
+          const control::PidGains want_q16 = tuning::to_q16(want);
+          if (!control::Pid::valid(want_q16, 128)) {  // the board must refuse what the PID can't hold
+            EXPECT_FALSE(ok) << k << " " << t << " " << l;
+            continue;
+          }
+          ASSERT_TRUE(ok) << k << " " << t << " " << l << " " << tu;
+          ++count;
+          // In Q16 units: the host's gains rounded once, the board's through two rounded steps.
+          const double dkp = std::fabs(d.pid.kp_q16 - want.kp * 65536.0);
+          const double dki = std::fabs(d.pid.ki_q16 - want.ki * 65536.0);
+          EXPECT_LE(dkp, 1.0 + 1e-5 * want.kp * 65536.0) << k << " " << t << " " << l << " " << tu;
+          EXPECT_LE(dki, 1.0 + 1e-5 * want.ki * 65536.0) << k << " " << t << " " << l << " " << tu;
+          worst_kp = std::fmax(worst_kp, dkp);
+          worst_ki = std::fmax(worst_ki, dki);
+          EXPECT_EQ(d.pid.kd_q16, 0);
+          EXPECT_NEAR(d.design_dead_time_q8 / 256.0, std::fmax(std::fmax(l, tu / 4), 0.5), 1.0 / 256);
+          EXPECT_EQ(d.model.dead_time_q8, d.design_dead_time_q8);
+        }
+  std::printf("on-board SIMC vs double over %d models: worst |Δ| Kp %.2f, Ki %.2f units of 2^-16\n", count,
+              worst_kp, worst_ki);
+  EXPECT_GT(count, 500);
+}
+
+TEST(AutotuneDesign, RefusesModelsOutsideM307sRange) {
+  control::TunedDesign d;
+  EXPECT_FALSE(control::design_from_tune(tune_of(5, 100, 2, 10), 128, &d));      // gain below 10 °C
+  EXPECT_FALSE(control::design_from_tune(tune_of(450, 0.5, 2, 10), 128, &d));    // time constant < 1 s
+  EXPECT_FALSE(control::design_from_tune(tune_of(450, 100, 700, 10), 128, &d));  // dead time > 600 s
+  EXPECT_FALSE(control::design_from_tune(tune_of(450, 100, 2, 10, 600), 128, &d));  // fan loss > 500 %
+}
+
+// Closed loop: the fixed-point PID with the board's gains and with the host's rounded gains on
+// the same FOPDT (seed002-like), heating 25 → 210 °C; the traces agree within 0.2 °C.
+TEST(AutotuneDesign, ClosedLoopMatchesTheHostDesign) {
+  const double k = 450, t = 24, l = 20.7, tu = 65.6;
+  control::TunedDesign d;
+  ASSERT_TRUE(control::design_from_tune(tune_of(k, t, l, tu), 128, &d));
+  const control::PidGains host = tuning::to_q16(host_gains(k, t, l, tu));
+  control::Pid board_pid, host_pid;
+  board_pid.configure(d.pid, 128);
+  host_pid.configure(host, 128);
+  design::PlantSim a(design::fopdt(k, t, l)), b(design::fopdt(k, t, l));
+  double worst = 0;
+  for (int i = 0; i < 6000; ++i) {
+    const int32_t ya = static_cast<int32_t>(std::lround(a.true_c() * 256)), yb = static_cast<int32_t>(std::lround(b.true_c() * 256));
+    a.run(board_pid.step(control::StepInput{210 * 256, ya, 0}) / 65535.0, 0.128);
+    b.run(host_pid.step(control::StepInput{210 * 256, yb, 0}) / 65535.0, 0.128);
+    worst = std::fmax(worst, std::fabs(a.true_c() - b.true_c()));
+  }
+  std::printf("closed loop, board vs host gains: max |ΔT| %.4f °C\n", worst);
+  EXPECT_LT(worst, 0.2);
+  EXPECT_NEAR(a.true_c(), 210.0, 1.0);  // and it does control
+}
+
+}  // namespace

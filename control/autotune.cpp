@@ -909,7 +909,6 @@ bool Autotune::compute_chunk() {
         // Not corrected for the relay filter's 1.5-period delay: the filter also rounds the peaks
         // off (a smaller amplitude reads as a shorter L), and the two nearly cancel (measured).
         t_sum_q8_ += t_q8;
-        lambda_sum_q16_ += c_lambda_;
         l_sum_q8_ += l_q8 > 0 ? l_q8 : 0;
         ++tl_count_;
         return false;

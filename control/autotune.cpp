@@ -909,7 +909,6 @@ bool Autotune::compute_chunk() {
         // Not corrected for the relay filter's 1.5-period delay: the filter also rounds the peaks
         // off (a smaller amplitude reads as a shorter L), and the two nearly cancel (measured).
         t_sum_q8_ += t_q8;
-        lambda_sum_q16_ += c_lambda_;
         l_sum_q8_ += l_q8 > 0 ? l_q8 : 0;
         ++tl_count_;
         return false;
@@ -945,23 +944,34 @@ bool Autotune::compute_chunk() {
         m.time_constant_q8 = static_cast<int32_t>((num + static_cast<uint32_t>(slope_q8_) / 2) / static_cast<uint32_t>(slope_q8_));
       }
       return false;
-    case 4:
+    case 4: {
+      // Lag-type (continuous probe): the heat-up's slope S = (K − block rise)/T and the block
+      // leads the sensor by lag·S, so T = (K − rise)/S − lag; the tangent's dead time stands for
+      // the lag (the FOPDT equivalent of the heat-up, as a two-point fit of it: the M307 model's
+      // initial rate A/C and its delay are what its model-following heat-up relies on).
+      const int32_t lag = seconds_q8(static_cast<uint16_t>(horizon_ticks_));
       if (continuous_ && k_q8_ > slope_rise_q8_) {
-        // L then from the relay's amplitude, θ = e^(−L/T) (mean of the cycles' λ = L/T).
-        const int32_t lambda = lambda_sum_q16_ / count;
-        const int32_t l = lambda > 0 ? fixed::mul_round(m.time_constant_q8, fixed::Multiplier{static_cast<uint32_t>(lambda) >> 16,
-                                                                                              static_cast<uint16_t>(lambda)})
-                                     : 0;
-        m.dead_time_q8 = tl_count_ > 0 ? l : 0;
+        if (m.time_constant_q8 > 2 * lag) m.time_constant_q8 -= lag;
+        m.dead_time_q8 = lag;
+        result_.sensor_lag_q8 = lag;
+      } else if (slope_q8_ > 0 && !hot_start_) {
+        // A cut probe (hot start, or a slower response): S = K/T at full power. The relay's FOPDT
+        // formulas read a sensor lag as a long T (×3 on a lag-type hotend); K/S does not. Taken
+        // when it is well below the relay's T (an FOPDT hotend: within noise, the relay's kept);
+        // cold starts only (a hot start's pulse is read against a decaying baseline: S unsure).
+        // K < 2^19, × (s × 256 per bin) < 2^10: < 2^29.
+        const uint32_t num = static_cast<uint32_t>(k_q8_) * static_cast<uint32_t>(seconds_q8(kTicksPerBin));
+        const int32_t t_s = static_cast<int32_t>((num + static_cast<uint32_t>(slope_q8_) / 2) / static_cast<uint32_t>(slope_q8_));
+        if (t_s > 0 && 4 * t_s < 3 * m.time_constant_q8) m.time_constant_q8 = t_s;
       }
       return false;
+    }
     case 5:
       result_.ultimate.ku_q8 = ku_count_ > 0 ? static_cast<int32_t>(ku_sum_q8_ / ku_count_) : 0;
       return false;
     default:
       result_.ultimate.tu_q8 = ku_count_ > 0 ? static_cast<int32_t>(tu_sum_q8_ / ku_count_) : 0;
       m.rise_q8 = k_q8_;
-      result_.sensor_lag_q8 = 0;
       result_.ambient_q8 = ambient_q8_;
       result_.hot_start = hot_start_;
       return true;

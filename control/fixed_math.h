@@ -3,6 +3,11 @@
 // no 64-bit: 32-bit products of 16-bit mantissas only. Each call is a loop of 16 small multiplies
 // (a few hundred AVR cycles): not for the per-period path, but cheap enough for a chunk per step.
 // host_tests/test_fixed_math.cpp reports the worst error against <cmath> over the domain.
+//
+// Second part (below, `Scaled`): numbers as a 30-bit mantissa with a binary exponent, for
+// set-up arithmetic whose values span many decades (the on-board state-feedback design,
+// control/state_feedback_autodesign.cpp: 1 − e^(−h/T) down to 1e-5 needed to 15 significant
+// bits, gains up to 1e3). Integer-only; implemented in fixed_math.cpp (not inline: flash).
 #pragma once
 
 #include <stdint.h>
@@ -64,5 +69,45 @@ inline uint32_t exp_neg_q16(uint32_t x_q16) {
   }
   return whole >= 17 ? 0 : (acc + ((uint32_t{1} << whole) >> 1)) >> whole;
 }
+
+// ---------------------------------------------------------------------------------------------
+// Scaled: value = m · 2^e with 2^29 ≤ |m| < 2^30 (normalised), or m = 0 (then e = 0). About 29
+// significant bits at any magnitude between 2^-16000 and 2^16000; results outside saturate (large)
+// or flush to 0 (small). Relative error ≤ 2^-27 for mul (it drops the product's low bits), ≤ 2^-29
+// for div, ≤ 2^-28 of the larger operand for add/sub (what cancels is lost, as in any format).
+// All products are 16×16 → 32-bit,
+// divisions are restoring shift-subtract loops: no 64-bit arithmetic, no library division.
+// Set-up code only (mul ~150, div ~700 AVR cycles; see control/state_feedback_autodesign.cpp).
+struct Scaled {
+  int32_t m;
+  int16_t e;
+};
+
+// v · 2^e, normalised.
+Scaled scaled(int32_t v, int16_t e = 0);
+Scaled add(Scaled a, Scaled b);
+Scaled sub(Scaled a, Scaled b);
+Scaled mul(Scaled a, Scaled b);
+Scaled div(Scaled a, Scaled b);  // b = 0 gives 0 (callers exclude it)
+inline Scaled neg(Scaled a) { return Scaled{-a.m, a.e}; }
+// a · 2^n (small n: the exponent range is not re-checked).
+inline Scaled ldexp(Scaled a, int16_t n) { return a.m == 0 ? a : Scaled{a.m, static_cast<int16_t>(a.e + n)}; }
+inline bool is_negative(Scaled a) { return a.m < 0; }
+bool less(Scaled a, Scaled b);
+inline Scaled min(Scaled a, Scaled b) { return less(b, a) ? b : a; }
+
+// round(a · 2^s), halves away from zero (as the host's quantiser), saturated to ±(2^31 − 1).
+int32_t round_scaled(Scaled a, int16_t s);
+
+// e^(−x) for x ≥ 0 (x < 0 is taken as 0), relative error ≤ (1 + x)·2^-26 (host test: the
+// squarings that undo the range reduction double it each).
+Scaled exp_neg(Scaled x);
+// 1 − e^(−x) for x ≥ 0 with *relative* precision also for small x (≤ 2^-25, host test): Φ − 1
+// of a slow pole sampled fast (e^(−x) itself would leave only its absolute error there).
+Scaled one_minus_exp_neg(Scaled x);
+// ln(num/den) for 1 ≤ num, den < 2^31 (else 0): ln_ratio_q16 above refined by two Newton steps
+// on e^z = num/den; error ≤ 2^-22 absolute, 2^-21 relative; 2^-24 relative on the pole rule's
+// ln(K/(K − 185 °C)) (host test).
+Scaled ln_ratio(uint32_t num, uint32_t den);
 
 }  // namespace fixed_math

@@ -9,6 +9,7 @@ constexpr uint32_t kLow = uint32_t{1} << 29;   // normalised |m| in [kLow, kHigh
 constexpr uint32_t kHigh = uint32_t{1} << 30;
 constexpr int32_t kMaxExponent = 16000;       // |e| beyond: saturate / flush to zero
 constexpr Scaled kOne{int32_t{1} << 29, -29};
+constexpr Scaled kLn2{744261118, -30};  // ln 2 · 2^30, rounded
 
 inline uint32_t magnitude(int32_t m) { return m < 0 ? 0u - static_cast<uint32_t>(m) : static_cast<uint32_t>(m); }
 
@@ -30,14 +31,6 @@ Scaled make(bool negative, uint32_t mag, int32_t e) {
   }
   const int32_t m = static_cast<int32_t>(mag);
   return Scaled{negative ? -m : m, static_cast<int16_t>(e)};
-}
-
-// 1 − e^(−x) for 0 ≤ x < 1/2 by its Taylor series in Horner form,
-// x·(1 − x/2·(1 − x/3·(… (1 − x/10)))): the first term left out, x^11/11!, is < 2^-35·x.
-Scaled one_minus_exp_neg_small(Scaled x) {
-  Scaled t = kOne;
-  for (int8_t k = 10; k >= 2; --k) t = sub(kOne, div(mul(x, t), scaled(k)));
-  return mul(x, t);
 }
 
 }  // namespace
@@ -111,34 +104,32 @@ int32_t round_scaled(Scaled a, int16_t s) {
   return a.m < 0 ? -static_cast<int32_t>(mag) : static_cast<int32_t>(mag);
 }
 
-// e^(−x) = (e^(−x/2^n))^(2^n) with x/2^n < 1/2: the series, then n squarings (each doubles the
-// relative error: n ≤ 6 for x < 32, the design's largest h/T).
-Scaled exp_neg(Scaled x) {
-  if (x.m <= 0) return kOne;
-  if (x.e > -16) return Scaled{0, 0};  // x ≥ 2^14: e^(−x) below 2^-23000, flushed
+// e^(−x) = (e^(−x/2^n))^(2^n) with x/2^n < 1/2, where the Taylor series of 1 − e^(−x) in Horner
+// form, x·(1 − x/2·(1 − x/3·(… (1 − x/10)))), leaves out less than 2^-35·x; then n squarings
+// (each doubles the relative error: n <= 6 for x < 32, the design's largest h/T). `complement`
+// returns 1 − e^(−x) instead, straight from the series when x < 1/2 (relative precision).
+Scaled exp_neg(Scaled x, bool complement) {
+  if (x.m <= 0) return complement ? Scaled{0, 0} : kOne;
+  if (x.e > -16) return complement ? kOne : Scaled{0, 0};  // x ≥ 2^14: e^(−x) below 2^-23000
   uint8_t n = 0;
   for (; x.e >= -30; ++n) --x.e;  // x ≥ 1/2 ⇔ e ≥ −30 (normalised)
-  Scaled y = sub(kOne, one_minus_exp_neg_small(x));
-  while (n--) y = mul(y, y);
-  return y;
+  Scaled t = kOne;
+  for (int8_t k = 10; k >= 2; --k) t = sub(kOne, div(mul(x, t), scaled(k)));
+  t = mul(x, t);  // 1 − e^(−x/2^n)
+  if (n == 0 && complement) return t;
+  t = sub(kOne, t);
+  while (n--) t = mul(t, t);
+  return complement ? sub(kOne, t) : t;  // x ≥ 1/2 here: 1 − e^(−x) ≥ 0.39, no cancellation
 }
 
-Scaled one_minus_exp_neg(Scaled x) {
+// ln x for x > 0: ln x = −ln(1/x) below 1; above, Newton on e^z = x from the octave's linear
+// log2 (|error| < 0.061): z += x·e^(−z) − 1, whose error e goes to e²/2: four steps reach the
+// arithmetic's own precision.
+Scaled ln(Scaled x) {
   if (x.m <= 0) return Scaled{0, 0};
-  return x.e < -30 ? one_minus_exp_neg_small(x) : sub(kOne, exp_neg(x));  // ≥ 0.39: no cancellation
-}
-
-// Newton on g(z) = 1 − (num/den)·e^(−z) from ln_ratio_q16 (|error| ≤ 6·2^-16): z += r·e^(−z) − 1.
-// The error squares (halved) each step: 1e-4 → 5e-9 → below the arithmetic's own 2^-28.
-Scaled ln_ratio(uint32_t num, uint32_t den) {
-  if (num == 0 || den == 0 || num > 0x7FFFFFFFu || den > 0x7FFFFFFFu) return Scaled{0, 0};
-  const Scaled r = div(scaled(static_cast<int32_t>(num)), scaled(static_cast<int32_t>(den)));
-  Scaled z = scaled(ln_ratio_q16(num, den), -16);
-  for (uint8_t i = 0; i < 2; ++i) {
-    const bool negative = z.m < 0;  // e^(−z) = 1/e^(z) for z < 0 (exp_neg takes x ≥ 0)
-    const Scaled e = negative ? div(kOne, exp_neg(neg(z))) : exp_neg(z);
-    z = add(z, sub(mul(r, e), kOne));
-  }
+  if (x.e < -29) return neg(ln(div(kOne, x)));  // x < 1 (1/x ≥ 1: one level of recursion)
+  Scaled z = mul(kLn2, add(scaled(x.e + 29), scaled(x.m - (int32_t{1} << 29), -29)));
+  for (uint8_t i = 0; i < 4; ++i) z = add(z, sub(mul(x, exp_neg(z)), kOne));
   return z;
 }
 

@@ -100,14 +100,13 @@ inline Scaled min(Scaled a, Scaled b) { return less(b, a) ? b : a; }
 int32_t round_scaled(Scaled a, int16_t s);
 
 // e^(−x) for x ≥ 0 (x < 0 is taken as 0), relative error ≤ (1 + x)·2^-26 (host test: the
-// squarings that undo the range reduction double it each).
-Scaled exp_neg(Scaled x);
-// 1 − e^(−x) for x ≥ 0 with *relative* precision also for small x (≤ 2^-25, host test): Φ − 1
-// of a slow pole sampled fast (e^(−x) itself would leave only its absolute error there).
-Scaled one_minus_exp_neg(Scaled x);
-// ln(num/den) for 1 ≤ num, den < 2^31 (else 0): ln_ratio_q16 above refined by two Newton steps
-// on e^z = num/den; error ≤ 2^-22 absolute, 2^-21 relative; 2^-24 relative on the pole rule's
-// ln(K/(K − 185 °C)) (host test).
-Scaled ln_ratio(uint32_t num, uint32_t den);
+// squarings that undo the range reduction double it each). complement: 1 − e^(−x) instead, with
+// *relative* precision also for small x (≤ 2^-25): Φ − 1 of a slow pole sampled fast (e^(−x)
+// itself would leave only its absolute error there).
+Scaled exp_neg(Scaled x, bool complement = false);
+inline Scaled one_minus_exp_neg(Scaled x) { return exp_neg(x, true); }
+// ln x for x > 0 (x ≤ 0 gives 0): absolute error ≤ 2^-25·(1 + |ln x|) (host test). For the pole
+// rule's ln(K/(K − 185 °C)).
+Scaled ln(Scaled x);
 
 }  // namespace fixed_math

@@ -60,7 +60,7 @@ enum Slot : uint8_t {
   kSlots
 };
 
-enum Op : uint8_t { kAdd, kSub, kMul, kDiv, kMin, kLdexp, kExpNeg, kOneMinusExpNeg };
+enum Op : uint8_t { kAdd, kSub, kMul, kDiv, kMin, kLdexp, kExpNeg, kOneMinusExpNeg, kLn };
 
 class Calc {
  public:
@@ -83,7 +83,8 @@ class Calc {
       case kMin: z = fixed_math::min(x, y); break;
       case kLdexp: z = fixed_math::ldexp(x, static_cast<int8_t>(b)); break;
       case kExpNeg: z = fixed_math::exp_neg(x); break;
-      default: z = fixed_math::one_minus_exp_neg(x); break;
+      case kOneMinusExpNeg: z = fixed_math::one_minus_exp_neg(x); break;
+      default: z = fixed_math::ln(x); break;
     }
     r_[d] = z;
   }
@@ -96,8 +97,8 @@ class Calc {
   void copy(uint8_t d, uint8_t a) { op(kAdd, d, a, kZero); }
   void exp_neg(uint8_t d, uint8_t a) { op(kExpNeg, d, a, 0); }
   void one_minus_exp_neg(uint8_t d, uint8_t a) { op(kOneMinusExpNeg, d, a, 0); }
+  void ln(uint8_t d, uint8_t a) { op(kLn, d, a, 0); }
   __attribute__((noinline)) bool less(uint8_t a, uint8_t b) const { return fixed_math::less(r_[a], r_[b]); }
-  __attribute__((noinline)) Scaled& operator[](uint8_t i) { return r_[i]; }
 
   // design::quantize_row on slots first..first+count−1: the largest shift s <= max_shift with
   // (s − 16) a multiple of step and |v|·2^s + 1/2 < 32767 for every v (16 when all are 0), then
@@ -112,7 +113,10 @@ class Calc {
     int8_t s = 16;
     if (big.m != 0) {
       const Scaled limit = fixed_math::scaled(65533);  // 2·(32767 − 1/2)
-      for (s = max_shift; s >= 0; --s)
+      // big < 2^(e+30): every s above −15 − e fails, so the search starts there (a step or two).
+      const int16_t start = static_cast<int16_t>(-15 - big.e);
+      s = start > max_shift ? max_shift : (start < 0 ? -1 : static_cast<int8_t>(start));
+      for (; s >= 0; --s)
         if ((s + 48) % step == 0 && fixed_math::less(fixed_math::ldexp(big, static_cast<int16_t>(s + 1)), limit)) break;
       if (s < 0) return false;
     }
@@ -128,7 +132,10 @@ class Calc {
   Scaled r_[kSlots] = {};
 };
 
-bool design(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants& k) {
+// The register file is the caller's (design_state_feedback_fopdt's) local: here it is reached
+// through a pointer, and this frame keeps only small locals (avr-gcc: within Y+63, no pointer
+// arithmetic per access; with the 240-byte array in this frame ~900 bytes of flash went to that).
+__attribute__((noinline)) bool design(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants& k, Calc& c) {
   if (!hotend_model_valid(model) || period_ms == 0 || period_ms > 1000) return false;
 
   // Law period: the smallest N >= 2 with D <= kSfMaxDelay and N >= state_feedback_min_decimation(D)
@@ -160,7 +167,6 @@ bool design(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants
   k.input_shift = static_cast<uint8_t>(p);
   k.ambient_q8 = kAmbientQ8;
 
-  Calc c;
   c.set(kGain, model.rise_q8, -8);
   c.ldexp(kGainP, kGain, static_cast<int8_t>(-p));
   // h/T = h32/32,000 s ÷ T_q8/256 s = h32·8/(1000·T_q8); T_q8·1000 <= 9.2e8, h32·8 <= 6.4e7.
@@ -173,8 +179,12 @@ bool design(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants
 
   // Pole rule: c = h/T_cl = min(16·(h/T)/(t_rise/T), 1/2), t_rise/T = ln(K/(K − 185)) (1 if K <= 185).
   c.copy(kRise, kOne);
-  if (model.rise_q8 > kStepQ8)
-    c[kRise] = fixed_math::ln_ratio(static_cast<uint32_t>(model.rise_q8), static_cast<uint32_t>(model.rise_q8 - kStepQ8));
+  if (model.rise_q8 > kStepQ8) {
+    c.set(kRise, model.rise_q8);
+    c.set(kT0, model.rise_q8 - kStepQ8);
+    c.div(kRise, kRise, kT0);
+    c.ln(kRise, kRise);
+  }
   c.ldexp(kC, kA, 4);
   c.div(kC, kC, kRise);
   c.min(kC, kC, kHalf);
@@ -311,7 +321,8 @@ bool design(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants
 
 bool design_state_feedback_fopdt(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants* out) {
   *out = StateFeedbackConstants();
-  if (design(model, period_ms, *out)) return true;
+  Calc calc;
+  if (design(model, period_ms, *out, calc)) return true;
   *out = StateFeedbackConstants();  // n = 0: fails state_feedback_constants_valid
   return false;
 }

@@ -3,6 +3,11 @@
 // table with linear interpolation, so one call is one 16×16 multiply plus the normalising shifts
 // (≈ 250 AVR cycles for log2_q16, twice that for ln_ratio_q16: fits one control step).
 // host_tests/test_fixed_math.cpp reports the worst error against <cmath> over the domain.
+//
+// Second part (below, `Scaled`): numbers as a 30-bit mantissa with a binary exponent, for
+// set-up arithmetic whose values span many decades (the on-board state-feedback design,
+// control/state_feedback_autodesign.cpp: 1 − e^(−h/T) down to 1e-5 needed to 15 significant
+// bits, gains up to 1e3). Integer-only; implemented in fixed_math.cpp (not inline: flash).
 #pragma once
 
 #include <stdint.h>
@@ -46,5 +51,44 @@ inline int32_t ln_from_log2_q16(int32_t d) {
 
 // ln(num / den) · 2^16 for num, den ≥ 1: (log2 num − log2 den) · ln 2.
 inline int32_t ln_ratio_q16(uint32_t num, uint32_t den) { return ln_from_log2_q16(log2_q16(num) - log2_q16(den)); }
+
+// ---------------------------------------------------------------------------------------------
+// Scaled: value = m · 2^e with 2^29 ≤ |m| < 2^30 (normalised), or m = 0 (then e = 0). About 29
+// significant bits at any magnitude between 2^-16000 and 2^16000; results outside saturate (large)
+// or flush to 0 (small). Relative error ≤ 2^-27 for mul (it drops the product's low bits), ≤ 2^-29
+// for div, ≤ 2^-28 of the larger operand for add/sub (what cancels is lost, as in any format).
+// All products are 16×16 → 32-bit,
+// divisions are restoring shift-subtract loops: no 64-bit arithmetic, no library division.
+// Set-up code only (mul ~150, div ~700 AVR cycles; see control/state_feedback_autodesign.cpp).
+struct Scaled {
+  int32_t m;
+  int16_t e;
+};
+
+// v · 2^e, normalised.
+Scaled scaled(int32_t v, int16_t e = 0);
+Scaled add(Scaled a, Scaled b);
+Scaled sub(Scaled a, Scaled b);
+Scaled mul(Scaled a, Scaled b);
+Scaled div(Scaled a, Scaled b);  // b = 0 gives 0 (callers exclude it)
+inline Scaled neg(Scaled a) { return Scaled{-a.m, a.e}; }
+// a · 2^n (small n: the exponent range is not re-checked).
+inline Scaled ldexp(Scaled a, int16_t n) { return a.m == 0 ? a : Scaled{a.m, static_cast<int16_t>(a.e + n)}; }
+inline bool is_negative(Scaled a) { return a.m < 0; }
+bool less(Scaled a, Scaled b);
+inline Scaled min(Scaled a, Scaled b) { return less(b, a) ? b : a; }
+
+// round(a · 2^s), halves away from zero (as the host's quantiser), saturated to ±(2^31 − 1).
+int32_t round_scaled(Scaled a, int16_t s);
+
+// e^(−x) for x ≥ 0 (x < 0 is taken as 0), relative error ≤ (1 + x)·2^-26 (host test: the
+// squarings that undo the range reduction double it each). complement: 1 − e^(−x) instead, with
+// *relative* precision also for small x (≤ 2^-25): Φ − 1 of a slow pole sampled fast (e^(−x)
+// itself would leave only its absolute error there).
+Scaled exp_neg(Scaled x, bool complement = false);
+inline Scaled one_minus_exp_neg(Scaled x) { return exp_neg(x, true); }
+// ln x for x > 0 (x ≤ 0 gives 0): absolute error ≤ 2^-25·(1 + |ln x|) (host test). For the pole
+// rule's ln(K/(K − 185 °C)).
+Scaled ln(Scaled x);
 
 }  // namespace fixed_math

@@ -1,0 +1,330 @@
+// On-board state-feedback design for the FOPDT model (see state_feedback_autodesign.h).
+//
+// The host design (design/state_feedback_design_impl.h) is general: matrix exponentials,
+// Ackermann, a search over the closed-loop speed. For one state with dead time all of it has a
+// closed form. Notation: K static gain (°C per unit duty), T time constant, τ dead time,
+// h = N·128 ms the law period, D = ⌈τ/h⌉, f = D·h − τ, and
+//   a = h/T, Φ = e^(−a), A = 1 − Φ;   ε = e^(−f/T), B = 1 − ε   (ε = 1, B = 0 when f = 0)
+//   Γa = K(ε − Φ) = K(A − B),  Γb = K·B                         (ZOH with fractional delay)
+// Controller pole λc = e^(−c) (c = h/T_cl), observer poles λo = e^(−o) (state), λb = e^(−β)
+// (bias). With the fractional delay the host's controller model is ξ = [x; u[k−D]] with the
+// second pole at 0 (deadbeat); Ackermann on it gives L̃ = [l1, l1·Γa/Φ], l1 = Φ(Φ−λc)/(K·A·ε),
+// and the predictor over D − 1 periods folds into
+//   h_j = (Φ − λc)·Φ^(j−1), j < D;   h_D = (Φ − λc)·Φ^(D−1)·(A − B)/(ε·A)
+//   L_D = (Φ − λc)·Φ^D/(ε·A·K),     g_d = 1 + Σh,   M = (1 + Σh + L_D·K)/K
+// (f = 0: ε = 1 and the same formulas are the plain predictor's). Current observer on [x; d̂]
+// with Φo = [[Φ, K·A], [0, 1]], error dynamics eig(Φo − k·[1 0]·Φo) = {λo, λb}:
+//   k_x = 1 − λo·λb/Φ = 1 − e^(−(o + β − a)),   k_d = (1 − λo)(1 − λb)/(K·A).
+// Φ − λc = (1 − λc) − A: both computed as 1 − e^(−x) with relative precision, so the small
+// differences of slow poles keep their digits.
+//
+// The pole rule is the host's for n = 1: T_cl = t_rise/16 with t_rise = T·ln(K/(K − 185 K))
+// the full-power rise time (T when K ≤ 185 K), at least 2h. The host lowers the speed until the
+// saturated nominal step overshoots ≤ 0.2 K; with one state and an exact predictor the
+// saturated response is monotone, so the search always stops at its first step (the host test
+// checks this over the model grid) and none is needed here. Observer: c·4, capped at 1/τ
+// (τ > 2h) or 1/(2h); bias 1/max(T_cl/2, τ). A plant no slower than T_cl keeps its open-loop
+// pole (Φ − λc = 0, no feedback; observer pole at the plant's).
+//
+// Numbers: fixed_math::Scaled (30-bit mantissa, binary exponent; the values span 1e-5..1e3),
+// then the host quantiser's rules on them (choose_shift, rounding halves away from zero, M and
+// g_d from the quantised numbers). The values live in a register file (Calc) addressed by slot
+// number: each step of the design is then a call with four byte arguments. Passing the 6-byte
+// values themselves through a large stack frame cost avr-gcc ~100 bytes of flash per operation
+// (12.9 KB for this file) against ~16 here.
+#include "control/state_feedback_autodesign.h"
+
+#include "control/fixed_math.h"
+
+namespace control {
+namespace {
+
+using fixed_math::Scaled;
+
+constexpr int32_t kStepQ8 = 185L * 256;    // design step 25 → 210 °C (DesignOptions::step_k)
+constexpr int32_t kAmbientQ8 = 25L * 256;  // the M307 model's ambient
+constexpr uint8_t kMaxDecimation = 250;    // as the host's period search
+constexpr uint32_t kSqrt2Q16x10 = 926819;  // 1.41421356 · 65536 · 10 (the host's constant)
+
+// Register slots. Rows the quantiser takes as a whole (kRow*, kLaw*) are consecutive.
+enum Slot : uint8_t {
+  kZero, kOne, kHalf, kHeadroom,  // 0, 1, 1/2, 1.01 (the host's room for the final M, g_d)
+  kGain, kGainP, kT1000,          // K, K/2^p, 1000·T_q8
+  kA, kRateTau, kRise, kC, kO, kBeta, kT0, kT1,
+  kPhi, kOneMinusPhi, kEps, kOneMinusEps, kGap, kLast,
+  kRow0, kRow1, kRow2, kRow3,  // [Φ − 1, 0, Γa/2^p, Γb/2^p]
+  kGainQ, kKx, kKd,
+  kBig, kSumH, kTap, kOnePlusH, kLg,
+  kLaw0, kLaw1, kLaw2,  // [L_D·2^p, 1.01·g_d, 1.01·M·2^p]
+  kFan, kInv,
+  kSlots
+};
+
+enum Op : uint8_t { kAdd, kSub, kMul, kDiv, kMin, kLdexp, kExpNeg, kOneMinusExpNeg, kLn };
+
+class Calc {
+ public:
+  Calc() {
+    set(kOne, 1);
+    set(kHalf, 1, -1);
+    set(kHeadroom, 542245110, -29);  // 1.01 · 2^29
+  }
+  // Not inlined: every call site stays a few register loads and a call.
+  __attribute__((noinline)) void set(uint8_t d, int32_t v, int16_t e = 0) { r_[d] = fixed_math::scaled(v, e); }
+  // r[d] = r[a] op r[b]; kLdexp: r[a]·2^b (b as int8); kExpNeg / kOneMinusExpNeg of r[a].
+  __attribute__((noinline)) void op(uint8_t code, uint8_t d, uint8_t a, uint8_t b) {
+    const Scaled x = r_[a], y = r_[b];
+    Scaled z;
+    switch (code) {
+      case kAdd: z = fixed_math::add(x, y); break;
+      case kSub: z = fixed_math::sub(x, y); break;
+      case kMul: z = fixed_math::mul(x, y); break;
+      case kDiv: z = fixed_math::div(x, y); break;
+      case kMin: z = fixed_math::min(x, y); break;
+      case kLdexp: z = fixed_math::ldexp(x, static_cast<int8_t>(b)); break;
+      case kExpNeg: z = fixed_math::exp_neg(x); break;
+      case kOneMinusExpNeg: z = fixed_math::one_minus_exp_neg(x); break;
+      default: z = fixed_math::ln(x); break;
+    }
+    r_[d] = z;
+  }
+  void add(uint8_t d, uint8_t a, uint8_t b) { op(kAdd, d, a, b); }
+  void sub(uint8_t d, uint8_t a, uint8_t b) { op(kSub, d, a, b); }
+  void mul(uint8_t d, uint8_t a, uint8_t b) { op(kMul, d, a, b); }
+  void div(uint8_t d, uint8_t a, uint8_t b) { op(kDiv, d, a, b); }
+  void min(uint8_t d, uint8_t a, uint8_t b) { op(kMin, d, a, b); }
+  void ldexp(uint8_t d, uint8_t a, int8_t n) { op(kLdexp, d, a, static_cast<uint8_t>(n)); }
+  void copy(uint8_t d, uint8_t a) { op(kAdd, d, a, kZero); }
+  void exp_neg(uint8_t d, uint8_t a) { op(kExpNeg, d, a, 0); }
+  void one_minus_exp_neg(uint8_t d, uint8_t a) { op(kOneMinusExpNeg, d, a, 0); }
+  void ln(uint8_t d, uint8_t a) { op(kLn, d, a, 0); }
+  __attribute__((noinline)) bool less(uint8_t a, uint8_t b) const { return fixed_math::less(r_[a], r_[b]); }
+
+  // design::quantize_row on slots first..first+count−1: the largest shift s <= max_shift with
+  // (s − 16) a multiple of step and |v|·2^s + 1/2 < 32767 for every v (16 when all are 0), then
+  // the mantissas rounded halves away from zero. False when no shift fits.
+  __attribute__((noinline)) bool quantize(uint8_t first, uint8_t count, int8_t max_shift, uint8_t step,
+                                          int16_t* out, uint8_t* shift) {
+    Scaled big{0, 0};
+    for (uint8_t i = first; i < first + count; ++i) {
+      const Scaled v = r_[i].m < 0 ? fixed_math::neg(r_[i]) : r_[i];
+      if (fixed_math::less(big, v)) big = v;
+    }
+    int8_t s = 16;
+    if (big.m != 0) {
+      const Scaled limit = fixed_math::scaled(65533);  // 2·(32767 − 1/2)
+      // big < 2^(e+30): every s above −15 − e fails, so the search starts there (a step or two).
+      const int16_t start = static_cast<int16_t>(-15 - big.e);
+      s = start > max_shift ? max_shift : (start < 0 ? -1 : static_cast<int8_t>(start));
+      for (; s >= 0; --s)
+        if ((s + 48) % step == 0 && fixed_math::less(fixed_math::ldexp(big, static_cast<int16_t>(s + 1)), limit)) break;
+      if (s < 0) return false;
+    }
+    *shift = static_cast<uint8_t>(s);
+    for (uint8_t i = 0; i < count; ++i) out[i] = mantissa(first + i, *shift);
+    return true;
+  }
+  int16_t mantissa(uint8_t a, uint8_t shift) const {
+    return static_cast<int16_t>(fixed_math::round_scaled(r_[a], shift));
+  }
+
+ private:
+  Scaled r_[kSlots] = {};
+};
+
+// The register file is the caller's (design_state_feedback_fopdt's) local: here it is reached
+// through a pointer, and this frame keeps only small locals (avr-gcc: within Y+63, no pointer
+// arithmetic per access; with the 240-byte array in this frame ~900 bytes of flash went to that).
+__attribute__((noinline)) bool design(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants& k, Calc& c) {
+  if (!hotend_model_valid(model) || period_ms == 0 || period_ms > 1000) return false;
+
+  // Law period: the smallest N >= 2 with D <= kSfMaxDelay and N >= state_feedback_min_decimation(D)
+  // (the host's loop from 2, started where D first fits: D <= 32 ⇔ τ <= 32·N·period).
+  // Times in 1/32 ms: τ = dead_time_q8·1000/256 ms = dead_time_q8·125/32 ms, exact.
+  const uint32_t dead32 = static_cast<uint32_t>(model.dead_time_q8) * 125u;  // <= 1.92e7
+  const uint32_t per_call32 = static_cast<uint32_t>(period_ms) * 32u;        // <= 32,000
+  uint32_t dec = (dead32 + kSfMaxDelay * per_call32 - 1) / (kSfMaxDelay * per_call32);
+  if (dec < 2) dec = 2;
+  uint32_t h32 = 0;  // law period, 1/32 ms (<= 250 · 32,000 = 8e6)
+  uint8_t delay = 0;
+  for (;; ++dec) {
+    if (dec > kMaxDecimation) return false;
+    h32 = dec * per_call32;
+    delay = static_cast<uint8_t>((dead32 + h32 - 1) / h32);  // <= 32 from the start value of dec
+    if (dec >= state_feedback_min_decimation(delay)) break;
+  }
+  const uint32_t frac32 = delay * h32 - dead32;  // f, in [0, h)
+  const bool frac = frac32 != 0;
+
+  // Input scale: 2^p ≈ K (the host: p < 10 while 2^p·1.41421356 < K); exact for Q8 K.
+  int8_t p = 0;
+  while (p < 10 && (kSqrt2Q16x10 << p) < static_cast<uint32_t>(model.rise_q8) * 2560u) ++p;
+
+  k.n = 1;
+  k.output_mask = 1;
+  k.delay = delay;
+  k.decimation = static_cast<uint8_t>(dec);
+  k.input_shift = static_cast<uint8_t>(p);
+  k.ambient_q8 = kAmbientQ8;
+
+  c.set(kGain, model.rise_q8, -8);
+  c.ldexp(kGainP, kGain, static_cast<int8_t>(-p));
+  // h/T = h32/32,000 s ÷ T_q8/256 s = h32·8/(1000·T_q8); T_q8·1000 <= 9.2e8, h32·8 <= 6.4e7.
+  c.set(kT1000, model.time_constant_q8 * 1000);
+  c.set(kA, static_cast<int32_t>(h32 * 8));
+  c.div(kA, kA, kT1000);
+  c.set(kRateTau, static_cast<int32_t>(h32));  // h/τ
+  c.set(kT0, static_cast<int32_t>(dead32));
+  c.div(kRateTau, kRateTau, kT0);
+
+  // Pole rule: c = h/T_cl = min(16·(h/T)/(t_rise/T), 1/2), t_rise/T = ln(K/(K − 185)) (1 if K <= 185).
+  c.copy(kRise, kOne);
+  if (model.rise_q8 > kStepQ8) {
+    c.set(kRise, model.rise_q8);
+    c.set(kT0, model.rise_q8 - kStepQ8);
+    c.div(kRise, kRise, kT0);
+    c.ln(kRise, kRise);
+  }
+  c.ldexp(kC, kA, 4);
+  c.div(kC, kC, kRise);
+  c.min(kC, kC, kHalf);
+  const bool slow = c.less(kA, kC);  // T > T_cl: sped up; else the open-loop pole stays
+  c.copy(kO, kA);                    // observer (state): 4c, capped at h/τ (τ > 2h) or 1/2
+  if (slow) {
+    c.ldexp(kO, kC, 2);
+    c.min(kO, kO, dead32 > 2 * h32 ? kRateTau : kHalf);
+  }
+  c.ldexp(kBeta, kC, 1);  // bias: h/max(T_cl/2, τ)
+  if (dead32 != 0 && !c.less(kBeta, kRateTau)) c.copy(kBeta, kRateTau);
+
+  // Discrete model: Φ, 1 − Φ; ε, 1 − ε; Φ − λc = (1 − λc) − (1 − Φ).
+  c.exp_neg(kPhi, kA);
+  c.one_minus_exp_neg(kOneMinusPhi, kA);
+  c.copy(kEps, kOne);
+  if (frac) {
+    c.set(kT0, static_cast<int32_t>(frac32 * 8));  // f/T
+    c.div(kT0, kT0, kT1000);
+    c.exp_neg(kEps, kT0);
+    c.one_minus_exp_neg(kOneMinusEps, kT0);
+  }
+  if (slow) {
+    c.one_minus_exp_neg(kGap, kC);
+    c.sub(kGap, kGap, kOneMinusPhi);
+  }
+
+  // Observer model row [Φ − 1, 0, K(A − B)/2^p, K·B/2^p], nibble-aligned shift <= 40.
+  c.sub(kRow0, kZero, kOneMinusPhi);
+  c.sub(kRow2, kOneMinusPhi, kOneMinusEps);
+  c.mul(kRow2, kRow2, kGainP);
+  c.mul(kRow3, kOneMinusEps, kGainP);
+  int16_t m[4];
+  if (!c.quantize(kRow0, 4, 40, 4, m, &k.phi_shift[0]) || m[0] >= 0) return false;
+  k.phi_diag[0] = m[0];
+  k.gamma_a[0] = m[2];
+  k.gamma_b[0] = m[3];
+  // DC gain of the quantised model: (Γa + Γb)/(1 − Φ) = (m2 + m3)·2^p/(−m0).
+  c.set(kGainQ, static_cast<int32_t>(m[2]) + m[3], p);
+  c.set(kT0, -static_cast<int32_t>(m[0]));
+  c.div(kGainQ, kGainQ, kT0);
+
+  // Observer gains, byte-aligned shifts: k_x = 1 − e^(−(o + β − a)), k_d = (1 − λo)(1 − λb)/(K·A).
+  c.add(kT0, kO, kBeta);
+  c.sub(kT0, kT0, kA);
+  if (c.less(kT0, kZero)) {  // λo·λb > Φ: k_x = −(e^x − 1) = −(1 − e^(−x))/e^(−x), x = −(o + β − a)
+    c.sub(kT0, kZero, kT0);
+    c.one_minus_exp_neg(kKx, kT0);
+    c.exp_neg(kT1, kT0);
+    c.div(kKx, kKx, kT1);
+    c.sub(kKx, kZero, kKx);
+  } else {
+    c.one_minus_exp_neg(kKx, kT0);
+  }
+  c.one_minus_exp_neg(kT0, kO);
+  c.one_minus_exp_neg(kKd, kBeta);
+  c.mul(kKd, kKd, kT0);
+  c.ldexp(kKd, kKd, p);
+  c.mul(kT0, kGain, kOneMinusPhi);
+  c.div(kKd, kKd, kT0);
+  if (!c.quantize(kKx, 1, 40, 8, &k.obs_gain[0], &k.obs_shift[0]) ||
+      !c.quantize(kKd, 1, 40, 8, &k.obs_gain[1], &k.obs_shift[1]))
+    return false;
+
+  // Predictor taps h_j·2^p: a first pass for the row's largest value and Σh, a second for the
+  // mantissas. The last tap carries the fractional delay's (A − B)/(ε·A).
+  c.copy(kLast, kOne);
+  if (frac) {
+    c.sub(kLast, kOneMinusPhi, kOneMinusEps);
+    c.mul(kT0, kEps, kOneMinusPhi);
+    c.div(kLast, kLast, kT0);
+  }
+  int32_t fir_sum = 0;  // Σ mantissas, <= 32 · 32767
+  for (uint8_t pass = 0; pass < 2; ++pass) {
+    c.ldexp(kTap, kGap, p);
+    for (uint8_t j = 1; j <= delay; ++j) {
+      if (j == delay)
+        c.mul(kT0, kTap, kLast);
+      else
+        c.copy(kT0, kTap);
+      if (pass == 0) {
+        if (c.less(kBig, kT0)) c.copy(kBig, kT0);
+        c.add(kSumH, kSumH, kT0);
+      } else {
+        k.fir[j - 1] = c.mantissa(kT0, k.fir_shift);
+        fir_sum += k.fir[j - 1];
+      }
+      c.mul(kTap, kTap, kPhi);  // after the loop: (Φ − λc)·Φ^D·2^p
+    }
+    if (pass == 0 && !c.quantize(kBig, 1, 46, 1, k.fir, &k.fir_shift)) return false;
+  }
+  c.set(kOnePlusH, fir_sum, static_cast<int16_t>(-(k.fir_shift + p)));  // quantised g_d
+  c.add(kOnePlusH, kOnePlusH, kOne);
+
+  // Law row [L_D·2^p, 1.01·g_d, 1.01·M·2^p] with the design's L_D = (Φ − λc)·Φ^D/(ε·A·K) and
+  // M = (1 + Σh + L_D·K)/K; then L is rounded, M and g_d follow from the quantised numbers.
+  c.mul(kT0, kEps, kOneMinusPhi);
+  c.mul(kT0, kT0, kGain);
+  c.div(kLaw0, kTap, kT0);
+  c.mul(kLaw1, kOnePlusH, kHeadroom);
+  c.ldexp(kLaw2, kSumH, static_cast<int8_t>(-p));
+  c.add(kLaw2, kLaw2, kOne);
+  c.ldexp(kLaw2, kLaw2, p);
+  c.div(kLaw2, kLaw2, kGain);
+  c.add(kLaw2, kLaw2, kLaw0);
+  c.mul(kLaw2, kLaw2, kHeadroom);
+  int16_t law[3];
+  if (!c.quantize(kLaw0, 3, 46, 1, law, &k.ctrl_shift)) return false;
+  k.fb_gain[0] = law[0];
+  const int16_t shift = static_cast<int16_t>(k.ctrl_shift);
+  c.set(kLg, law[0], static_cast<int16_t>(-(shift + p)));  // L_D·g of the quantised law
+  c.mul(kLg, kLg, kGainQ);
+  k.bias_gain = c.mantissa(kOnePlusH, k.ctrl_shift);
+  c.add(kT0, kOnePlusH, kLg);
+  c.div(kT0, kT0, kGainQ);
+  c.ldexp(kT0, kT0, p);
+  k.ff_gain = c.mantissa(kT0, k.ctrl_shift);
+
+  // Fan: (F/100)/K per kelvin · 2^(16+p)/(255·256), per °C Q8 × fan: F_q8·2^(16+p)/(K_q8·6,528,000).
+  c.set(kFan, model.fan_loss_pct_q8, static_cast<int16_t>(16 + p));
+  c.set(kT0, model.rise_q8);
+  c.set(kT1, 6528000);
+  c.mul(kT0, kT0, kT1);
+  c.div(kFan, kFan, kT0);
+  // Steady state per kelvin of rise (one state: exactly 1) and 2^p / DC gain.
+  c.set(kInv, 1, p);
+  c.div(kInv, kInv, kGainQ);
+  return c.quantize(kFan, 1, 46, 1, &k.fan_gain, &k.fan_shift) &&
+         c.quantize(kOne, 1, 46, 1, &k.ss_share[0], &k.ss_share_shift) &&
+         c.quantize(kInv, 1, 46, 1, &k.inv_gain, &k.inv_gain_shift) && state_feedback_constants_valid(k);
+}
+
+}  // namespace
+
+bool design_state_feedback_fopdt(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants* out) {
+  *out = StateFeedbackConstants();
+  Calc calc;
+  if (design(model, period_ms, *out, calc)) return true;
+  *out = StateFeedbackConstants();  // n = 0: fails state_feedback_constants_valid
+  return false;
+}
+
+}  // namespace control

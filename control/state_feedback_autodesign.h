@@ -1,0 +1,27 @@
+// The state-feedback constants (what M311 uploads) designed on the board from the M307 model
+// that M303 identifies: first order plus dead time, one state. Integer-only, no heap; the same
+// structure and rules as the host design (design/state_feedback_design*.h +
+// design/state_feedback_quantize.h, `design::design_constants(design::fopdt(K, T, L))` with the
+// fan loss (F/100)/K per kelvin), which host_tests/test_state_feedback_autodesign.cpp compares
+// field by field and in closed loop. docs/state_feedback.md ("Designed on the board") lists how
+// each constant is computed.
+//
+// Set-up code for the main loop after a tune, never the control step (cycles and stack: see
+// docs/state_feedback.md, "Designed on the board").
+#pragma once
+
+#include <stdint.h>
+
+#include "control/feedforward.h"
+#include "control/state_feedback_constants.h"
+
+namespace control {
+
+// Designs the one-state (n = 1, output_mask 1) law for `model` at the controller period
+// `period_ms` (the firmware's 128 ms) into *out. False, and *out all zero (n = 0, which
+// state_feedback_constants_valid and StateFeedback::configure refuse), if the model fails
+// hotend_model_valid, period_ms is outside 1..1000, the dead time needs a law period beyond 250
+// calls, or a constant leaves its range.
+bool design_state_feedback_fopdt(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants* out);
+
+}  // namespace control

@@ -1,5 +1,6 @@
 #include "firmware/controller_autotune.h"
 
+#include "control/state_feedback_autodesign.h"
 #include "firmware/controller_commands.h"
 
 namespace firmware {
@@ -162,20 +163,45 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   out.write_q16(d.pid.ki_q16);
   out.print(GCODE_TEXT(" D"));
   out.write_q16(d.pid.kd_q16);
-  out.print(GCODE_TEXT("\necho:Autotune state feedback: not designed on the board; M311 uploads it "
-                       "(hotend-design)\n"));
+  out.end_line();
+  // State feedback + observer + dead-time predictor, designed here from the same model
+  // (control/state_feedback_autodesign.h: ~400 k cycles, run right after a control step, so it
+  // ends well before the next one is due).
+  control::StateFeedbackConstants sf;
+  const bool sf_ok = control::design_state_feedback_fopdt(d.model, kControlPeriodMs, &sf);
+  if (sf_ok) {
+    out.print(GCODE_TEXT("echo:Autotune state feedback designed: law every "));
+    out.write_uint(sf.decimation);
+    out.print(GCODE_TEXT(" x 128 ms, predictor over "));
+    out.write_uint(sf.delay);
+    out.print(GCODE_TEXT(" law periods (M503 lists its M311 lines once applied)\n"));
+  } else {
+    out.print(GCODE_TEXT("echo:Autotune state feedback: this model is outside what the board designs\n"));
+  }
+  // Which controller holds such a hotend best (measured over the plant bank, docs/bench): state
+  // feedback unless the dead time is at least half the time constant; there the PID following
+  // the model's heat-up overshot less (seed002: 0.02 vs 1.69 °C).
+  const bool use_sf = sf_ok && 2 * d.model.dead_time_q8 < d.model.time_constant_q8;
+  const gcode::FlashText* choice = use_sf ? GCODE_TEXT("M310 S1 (state feedback), ")
+                                          : GCODE_TEXT("M310 S0 F1 (PID following the model's heat-up), ");
   if (!apply_) {
-    out.print(GCODE_TEXT("echo:Autotune not applied (U0); U1 would set M310 S0 F1, the M301 above and "));
+    out.print(GCODE_TEXT("echo:Autotune not applied (U0); U1 would set the M301 above, "));
+    out.print(choice);
     write_m307(out, d.model);
     return;
   }
   Settings next = bank_.settings();
   next.model = d.model;
   next.pid = d.pid;
-  next.controller = static_cast<uint8_t>(ControllerId::kPid);
+  next.controller = static_cast<uint8_t>(use_sf ? ControllerId::kStateFeedback : ControllerId::kPid);
   next.feedforward = 1;
+  // The constants first (S1 needs them loaded), then the settings, which take over bumplessly.
+  if (sf_ok && !bank_.load_state_feedback(sf, now)) {
+    return out.error_line(GCODE_TEXT("PID Autotune: the board's state-feedback constants were refused"));
+  }
   if (const gcode::FlashText* refusal = bank_.apply(next, now)) return out.error_line(refusal);
-  out.print(GCODE_TEXT("echo:Autotune applied (U1): M310 S0 F1 (PID following the model's heat-up), "));
+  out.print(GCODE_TEXT("echo:Autotune applied (U1): "));
+  out.print(choice);
   write_m307(out, d.model);  // the design's dead time: see control/autotune_design.h
 }
 

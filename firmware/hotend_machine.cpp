@@ -71,6 +71,7 @@ void HotendMachine::background(gcode::Output& out) {
   // only from the next target (HandOver: not heating).
   if (!tune_.report(out, HandOver{loop_.temp_q8(), 0, false})) return;
   heater_.set_target_q8(0);
+  commands_.sync_staging();  // U1 may have loaded state-feedback constants: M311 edits those
   hal::fan_pwm::set_duty(tune_.fan_to_restore());
   bank_.prepare_feedforward(0, tune_.fan_to_restore());
 }

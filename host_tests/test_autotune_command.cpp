@@ -72,7 +72,10 @@ class TuneMachine final : public gcode::Machine {
   }
   void report_settings(gcode::Output& out) override { commands.report(out); }
   void background(gcode::Output& out) override {
-    if (job.busy() && job.report(out, {measured_q8, 0, false})) target_q8 = 0;
+    if (job.busy() && job.report(out, {measured_q8, 0, false})) {
+      target_q8 = 0;
+      commands.sync_staging();
+    }
   }
   void cancel_heating() override { job.stop(firmware::AutotuneJob::Stop::kUser); }
 
@@ -186,8 +189,13 @@ TEST(AutotuneCommand, U1FinishesInMarlinsWordsAndAppliesModelGainsAndController)
   EXPECT_FALSE(has(text, "Error:"));
   EXPECT_LE(rig.max_c, 215.0);
   EXPECT_EQ(rig.machine.target_q8, 0);  // heater off at the end, as Marlin does
+  // A hotend whose dead time is short against its time constant: state feedback, designed on
+  // the board, becomes the controller (and its constants what M311 would edit).
   const firmware::Settings& s = rig.machine.bank.settings();
-  EXPECT_EQ(s.controller, static_cast<uint8_t>(firmware::ControllerId::kPid));
+  EXPECT_EQ(s.controller, static_cast<uint8_t>(firmware::ControllerId::kStateFeedback));
+  EXPECT_TRUE(rig.machine.bank.state_feedback_loaded());
+  EXPECT_TRUE(has(text, "echo:Autotune state feedback designed: law every "));
+  EXPECT_TRUE(has(text, "echo:Autotune applied (U1): M310 S1 (state feedback), M307 A"));
   EXPECT_EQ(s.feedforward, 1);
   // The applied model is the plant's (the engine's accuracy is asserted in test_autotune.cpp;
   // here: a model of this plant, not the defaults), and it is the one the report printed.
@@ -198,7 +206,8 @@ TEST(AutotuneCommand, U1FinishesInMarlinsWordsAndAppliesModelGainsAndController)
   EXPECT_TRUE(has(text, printed.text)) << printed.text;
   // M503 shows the applied model and gains.
   const std::string m503 = rig.send("M503\n");
-  EXPECT_TRUE(has(m503, "M310 S0 F1"));
+  EXPECT_TRUE(has(m503, "M310 S1"));
+  EXPECT_TRUE(has(m503, "M311 I0 A1 "));  // the board's constants, one state
   // Replaying the printed M301 line gives the same gains: the report is exact enough to type in.
   const std::size_t at = text.find("M301 P");
   ASSERT_NE(at, std::string::npos);
@@ -206,6 +215,15 @@ TEST(AutotuneCommand, U1FinishesInMarlinsWordsAndAppliesModelGainsAndController)
   const control::PidGains applied = s.pid;
   rig.send(m301 + "\n");
   EXPECT_NEAR(rig.machine.bank.settings().pid.kp_q16, applied.kp_q16, 400);  // 2 decimals printed
+}
+
+TEST(AutotuneCommand, DeadTimeDominatedHotendsGetThePidFollowingTheModel) {
+  TuneRig rig(design::seed002());  // dead time 20.7 s, time constant 24 s
+  rig.send("M303 E0 S210 C3 U1\n");
+  const std::string text = rig.run_tune();
+  EXPECT_TRUE(has(text, "echo:Autotune applied (U1): M310 S0 F1 (PID following the model's heat-up)")) << text;
+  EXPECT_EQ(rig.machine.bank.settings().controller, static_cast<uint8_t>(firmware::ControllerId::kPid));
+  EXPECT_LE(rig.max_c, 215.0);
 }
 
 TEST(AutotuneCommand, U0ReportsButChangesNothing) {

@@ -77,7 +77,8 @@ void print_report(std::ostream& out, const RunResult& r) {
         << t.cycle_lines << " relay cycles, max " << format_fixed(t.max_true_c - c.target_c, 2)
         << " °C above S; " << (t.result_line.empty() ? std::string("no result line") : t.result_line) << "\n";
     if (!t.model_line.empty()) out << "  identified       " << t.model_line << "\n";
-    if (!t.pid_line.empty()) out << "  designed         " << t.pid_line << (t.applied ? " (applied, M310 S0 F1)" : "") << "\n";
+    if (!t.pid_line.empty()) out << "  designed         " << t.pid_line << "\n";
+    if (t.applied) out << "  applied (U1)     " << t.applied_line << "\n";
   }
   if (r.heating_start_s) {
     out << "heating start      " << format_fixed(*r.heating_start_s, 3) << " s after power-on\n"

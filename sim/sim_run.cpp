@@ -234,7 +234,11 @@ void Runner::on_tune_line(const std::string& text, double t_s) {
   }
   const std::size_t m301 = text.find("M301 ");
   if (starts("echo:Autotune PID") && m301 != std::string::npos) tune.pid_line = text.substr(m301);
-  if (starts("echo:Autotune applied")) tune.applied = true;
+  if (starts("echo:Autotune applied")) {
+    tune.applied = true;
+    const std::size_t m310 = text.find("M310 ");
+    if (m310 != std::string::npos) tune.applied_line = text.substr(m310);
+  }
   // The last line of every ending: applied / not applied, or the failure itself.
   if (starts("echo:Autotune applied") || starts("echo:Autotune not applied") || starts("PID Autotune failed!") ||
       (tune.end_s && starts("Error:"))) {

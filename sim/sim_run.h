@@ -51,6 +51,7 @@ struct TuneOutcome {
   std::string result_line;   // "PID Autotune finished! …" or the failure line
   std::string model_line;    // the M307 the tune identified (without the echo: prefix)
   std::string pid_line;      // the M301 it designed
+  std::string applied_line;  // what U1 applied ("M310 S1 (state feedback), M307 …")
   double a = 0, c = 0, d = 0, f = 0;  // the M307 values
   int cycle_lines = 0;
   double duration_s() const { return end_s ? *end_s - start_s : 0.0; }

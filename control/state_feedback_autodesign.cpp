@@ -72,15 +72,17 @@ class Calc {
   // Not inlined: every call site stays a few register loads and a call.
   __attribute__((noinline)) void set(uint8_t d, int32_t v, int16_t e = 0) { r_[d] = fixed_math::scaled(v, e); }
   // r[d] = r[a] op r[b]; kLdexp: r[a]·2^b (b as int8); kExpNeg / kOneMinusExpNeg of r[a].
+  // b is a register only for the binary operations: for kLdexp it is the exponent (an int8
+  // that may be negative), so r_[b] must not be read there (out of bounds).
   __attribute__((noinline)) void op(uint8_t code, uint8_t d, uint8_t a, uint8_t b) {
-    const Scaled x = r_[a], y = r_[b];
+    const Scaled x = r_[a];
     Scaled z;
     switch (code) {
-      case kAdd: z = fixed_math::add(x, y); break;
-      case kSub: z = fixed_math::sub(x, y); break;
-      case kMul: z = fixed_math::mul(x, y); break;
-      case kDiv: z = fixed_math::div(x, y); break;
-      case kMin: z = fixed_math::min(x, y); break;
+      case kAdd: z = fixed_math::add(x, r_[b]); break;
+      case kSub: z = fixed_math::sub(x, r_[b]); break;
+      case kMul: z = fixed_math::mul(x, r_[b]); break;
+      case kDiv: z = fixed_math::div(x, r_[b]); break;
+      case kMin: z = fixed_math::min(x, r_[b]); break;
       case kLdexp: z = fixed_math::ldexp(x, static_cast<int8_t>(b)); break;
       case kExpNeg: z = fixed_math::exp_neg(x); break;
       case kOneMinusExpNeg: z = fixed_math::one_minus_exp_neg(x); break;
@@ -135,7 +137,12 @@ class Calc {
 // The register file is the caller's (design_state_feedback_fopdt's) local: here it is reached
 // through a pointer, and this frame keeps only small locals (avr-gcc: within Y+63, no pointer
 // arithmetic per access; with the 240-byte array in this frame ~900 bytes of flash went to that).
-__attribute__((noinline)) bool design(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants& k, Calc& c) {
+// noclone: avr-gcc 5.4 with LTO clones this function for the constant period (constprop) and the
+// clone's result came back false although every check passed (measured in simavr: the M303 tune
+// reported "outside what the board designs" for models the host designs; the HIL runs now
+// compare the board's M311 lines with this code compiled on the host).
+__attribute__((noinline, noclone)) bool design(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants& k,
+                                               Calc& c) {
   if (!hotend_model_valid(model) || period_ms == 0 || period_ms > 1000) return false;
 
   // Law period: the smallest N >= 2 with D <= kSfMaxDelay and N >= state_feedback_min_decimation(D)

@@ -24,7 +24,7 @@ std::string upload_of(const control::StateFeedbackConstants& k) {
 
 TEST(ControllerCommands, BareFormsReportTheDefaults) {
   Rig rig;
-  EXPECT_EQ(rig.send("M307\n"), "echo:M307 A588.23 C245.59 D4.55 F42.65\nok\n");
+  EXPECT_EQ(rig.send("M307\n"), "echo:M307 A588.234 C245.59 D4.547 F42.65\nok\n");  // exact Q8
   EXPECT_EQ(rig.send("M310\n"), "echo:M310 S0 F0 ; PID\nok\n");
   EXPECT_EQ(rig.send("M312\n"), "echo:M312 S50 E0.40 C0.60\nok\n");
   EXPECT_EQ(rig.send("M311\n"), "echo:M311 ; no state-feedback constants loaded\nok\n");

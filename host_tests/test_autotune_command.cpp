@@ -10,6 +10,8 @@
 #include "design/lti_model.h"
 #include "design/plant_sim.h"
 #include "design/seed_models.h"
+#include "control/state_feedback_autodesign.h"
+#include "control/state_feedback_gcode.h"
 #include "firmware/controller_autotune.h"
 #include "host_tests/controller_rig.h"
 
@@ -208,6 +210,14 @@ TEST(AutotuneCommand, U1FinishesInMarlinsWordsAndAppliesModelGainsAndController)
   const std::string m503 = rig.send("M503\n");
   EXPECT_TRUE(has(m503, "M310 S1"));
   EXPECT_TRUE(has(m503, "M311 I0 A1 "));  // the board's constants, one state
+  // They are the on-board design of the applied model, field for field.
+  control::StateFeedbackConstants expected;
+  ASSERT_TRUE(control::design_state_feedback_fopdt(s.model, 128, &expected));
+  std::string expected_lines;
+  control::write_state_feedback_mcode(expected, [&](const char* line) {
+    if (std::string(line) != "M311 W1") expected_lines += std::string("echo:  ") + line + "\n";
+  });
+  EXPECT_TRUE(has(m503, expected_lines)) << m503 << "\nwanted\n" << expected_lines;
   // Replaying the printed M301 line gives the same gains: the report is exact enough to type in.
   const std::size_t at = text.find("M301 P");
   ASSERT_NE(at, std::string::npos);

@@ -79,6 +79,9 @@ void print_report(std::ostream& out, const RunResult& r) {
     if (!t.model_line.empty()) out << "  identified       " << t.model_line << "\n";
     if (!t.pid_line.empty()) out << "  designed         " << t.pid_line << "\n";
     if (t.applied) out << "  applied (U1)     " << t.applied_line << "\n";
+    if (t.board_design_matches_host)
+      out << "  board's M311     " << (*t.board_design_matches_host ? "equal to" : "DIFFERENT from")
+          << " the same design built for the host\n";
   }
   if (r.heating_start_s) {
     out << "heating start      " << format_fixed(*r.heating_start_s, 3) << " s after power-on\n"
@@ -131,6 +134,9 @@ std::vector<std::string> failed_checks(const RunResult& r, const CheckLimits& li
               "M303 reached " + format_fixed(r.tune->max_true_c - r.config.target_c, 2) + " °C above S > " +
                   format_fixed(limits.max_tune_overshoot_c, 2));
     if (r.config.autotune->apply) require(r.tune && r.tune->applied, "M303 U1 did not apply its result");
+    if (r.tune && r.tune->board_design_matches_host)
+      require(*r.tune->board_design_matches_host,
+              "the board's state-feedback constants (M503) differ from the same design built for the host");
     const HotendModelSetting truth = hotend_model_for(r.config.plant);
     if (limits.max_model_error && r.tune && r.tune->finished && truth.source == "exact FOPDT") {
       const double e = *limits.max_model_error;

@@ -8,7 +8,9 @@
 #include <limits>
 
 #include "sim/cli_args.h"
+#include "control/state_feedback_autodesign.h"
 #include "sim/gcode_format.h"
+#include "sim/plant_model.h"
 #include "sim/host_session.h"
 #include "sim/run_files.h"
 #include "sim/sensor.h"
@@ -84,6 +86,9 @@ class Runner {
   int code_count_ = 0;
   double reported_c_ = std::numeric_limits<double>::quiet_NaN();
   bool cooling_ = false;  // the tune has ended: waiting for the hotend to cool before M104
+  void expect_board_design(const std::string& applied);
+  std::vector<std::string> expected_m311_, board_m311_;  // the host's / M503's M311 lines
+  bool collecting_m311_ = false;
 };
 
 Runner::Runner(const RunConfig& config)
@@ -181,6 +186,15 @@ void Runner::inject_fault(double now_s) {
 }
 
 void Runner::on_line(const ReplyLine& line) {
+  if (collecting_m311_) {
+    const std::string prefix = "echo:  M311 I";
+    if (line.text.rfind(prefix, 0) == 0) board_m311_.push_back(line.text.substr(7));
+    if (line.text == "ok" || line.text.rfind("echo:  M310", 0) == 0) {
+      if (line.text != "ok") return;
+      collecting_m311_ = false;
+      result_.tune->board_design_matches_host = board_m311_ == expected_m311_;
+    }
+  }
   if (line.text == "start" && session_.boot_count() == 1) start_setup();
   if (line.text.rfind("Error:", 0) == 0) result_.error_lines.push_back(line.text);
   if (result_.tune && !cooling_ && !result_.heating_start_s) on_tune_line(line.text, line.t_s);
@@ -238,6 +252,7 @@ void Runner::on_tune_line(const std::string& text, double t_s) {
     tune.applied = true;
     const std::size_t m310 = text.find("M310 ");
     if (m310 != std::string::npos) tune.applied_line = text.substr(m310);
+    if (tune.applied_line.rfind("M310 S1", 0) == 0) expect_board_design(tune.applied_line);
   }
   // The last line of every ending: applied / not applied, or the failure itself.
   if (starts("echo:Autotune applied") || starts("echo:Autotune not applied") || starts("PID Autotune failed!") ||
@@ -245,6 +260,32 @@ void Runner::on_tune_line(const std::string& text, double t_s) {
     cooling_ = true;
     target_sent_c_ = 0.0;  // the firmware switched the heater off
   }
+}
+
+// The M307 in the applied line reads back as the exact Q8 values (firmware/controller_commands:
+// two or three decimals), so the host can run the board's design on the same numbers.
+void Runner::expect_board_design(const std::string& applied) {
+  const std::size_t at = applied.find("M307 ");
+  if (at == std::string::npos) return;
+  int32_t q8[4] = {0, 0, 0, 0};
+  for (const std::string& word : split(applied.substr(at + 5), ' ')) {
+    if (word.size() < 2) continue;
+    const int32_t v = static_cast<int32_t>(std::lround(std::atof(word.c_str() + 1) * 256.0));
+    if (word[0] == 'A') q8[0] = v;
+    if (word[0] == 'C') q8[1] = v;
+    if (word[0] == 'D') q8[2] = v;
+    if (word[0] == 'F') q8[3] = v;
+  }
+  control::StateFeedbackConstants k;
+  if (!control::design_state_feedback_fopdt(control::HotendModel{q8[0], q8[1], q8[2], q8[3]}, 128, &k)) {
+    result_.problems.push_back("the host's build of the board design refuses the applied " + applied.substr(at));
+    return;
+  }
+  expected_m311_ = m311_commands(k);
+  expected_m311_.pop_back();  // "M311 W1": the upload's commit, not part of M503
+  board_m311_.clear();
+  collecting_m311_ = true;
+  session_.send("M503");
 }
 
 void Runner::send_heat_up() {

@@ -52,6 +52,10 @@ struct TuneOutcome {
   std::string model_line;    // the M307 the tune identified (without the echo: prefix)
   std::string pid_line;      // the M301 it designed
   std::string applied_line;  // what U1 applied ("M310 S1 (state feedback), M307 …")
+  // With state feedback applied: M503's M311 lines equal the same design compiled for the host
+  // (control/state_feedback_autodesign.h) on the applied M307 — the AVR build computes what
+  // the host-tested code computes. nullopt when not checked (no state feedback applied).
+  std::optional<bool> board_design_matches_host;
   double a = 0, c = 0, d = 0, f = 0;  // the M307 values
   int cycle_lines = 0;
   double duration_s() const { return end_s ? *end_s - start_s : 0.0; }

@@ -32,7 +32,7 @@ const char* const kUsage = R"(usage:
              [--max-report-error C] [--max-steady-p2p C] [--max-recovery S]
              [--max-recovery-ratio R] [--transcript FILE] [--quiet]
              [--autotune [--tune-cycles N] [--tune-fan 0|1] [--tune-from C] [--max-tune-overshoot C]
-             [--max-model-error PCT]]
+             [--max-model-error PCT] [--after-tune "CMD;CMD"]]
              [--svg FILE]
   hotend-sim bench [--markdown] [--autotune] [--boards a,b] [--plants x,y] [--controllers a,b]
              [--variant NAME=GCODE]... [--target C] [--fan-step S] [--seconds S] [--jobs N]
@@ -66,7 +66,8 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the cont
   from ambient to the target, then M104 and the timed commands as usual. The report adds the
   tune's duration, its maximum above S and the identified model; --check adds: the tune finished
   and applied, never more than --max-tune-overshoot (5 °C) above S. --tune-from C: a hot start
-  (M109 S<C> before M303). Timed commands and faults may count from M303's ok: "M108@tune+90",
+  (M109 S<C> before M303); --after-tune: G-code sent when the tune has ended (e.g. "M310 S2 F1":
+  another controller on the tuned settings). Timed commands and faults may count from M303's ok: "M108@tune+90",
   --fault open@tune+60 (kinds also m108, m112: the host stops the tune).
   --svg FILE: temperature and duty against time; with --autotune from M303 on, with the response
   of the model the tune identified (simulated on the same duties) laid over the hotend's.
@@ -87,7 +88,8 @@ int run_command(const std::vector<std::string>& args) {
   reject_unknown(o, {"board", "plant", "controller", "target", "seconds", "csv", "noise-lsb", "seed", "gains",
                      "gains-rule", "gcode", "elf", "fault", "transcript", "max-overshoot", "max-steady-error",
                      "max-report-error", "max-steady-p2p", "max-recovery", "max-recovery-ratio",
-                     "tune-cycles", "tune-fan", "tune-from", "max-tune-overshoot", "max-model-error", "svg"});
+                     "tune-cycles", "tune-fan", "tune-from", "after-tune", "max-tune-overshoot", "max-model-error",
+                     "svg"});
   RunConfig c;
   c.board = board_named(o.get("board", "ramps14"));
   c.plant = plant_named(o.get("plant", "hotend40w"));
@@ -105,6 +107,7 @@ int run_command(const std::vector<std::string>& args) {
     a.cycles = static_cast<int>(parse_number(o.get("tune-cycles", "5"), "--tune-cycles"));
     a.fan = parse_number(o.get("tune-fan", "1"), "--tune-fan") != 0;
     if (o.has("tune-from")) a.hot_start_c = parse_number(o.get("tune-from"), "--tune-from");
+    for (const TimedCommand& t : parse_gcode(o.get("after-tune"))) a.after.push_back(t.line);
     c.autotune = a;
     if (!o.has("gains")) {  // the tune designs them
       c.gains.reset();

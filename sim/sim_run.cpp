@@ -259,6 +259,7 @@ void Runner::on_tune_line(const std::string& text, double t_s) {
       (tune.end_s && starts("Error:"))) {
     cooling_ = true;
     target_sent_c_ = 0.0;  // the firmware switched the heater off
+    for (const std::string& command : config_.autotune->after) session_.send(command);
   }
 }
 

@@ -39,6 +39,7 @@ struct AutotuneConfig {
   bool apply = true;
   double cool_to_fraction = 0.02;
   std::optional<double> hot_start_c;  // `M109 S<this>` first: a hot start, as after a print
+  std::vector<std::string> after;     // sent when the tune has ended (e.g. another M310 choice)
 };
 
 // What the harness saw of a tune: the firmware's own lines, parsed.

@@ -15,7 +15,7 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
   hal::step_marker::begin();
   temp_q8_ = sensor::adc_q6_to_temp_q8(adc_q6);
   Fault fault = guard_.update(adc_q6, temp_q8_);
-  if (fault == Fault::kNone && !guard_.reading_bad()) fault = watch_.update(heater_.target_q8(), temp_q8_);
+  if (fault == Fault::kNone && !guard_.reading_bad()) fault = watch_.update(heater_.target_q8(), temp_q8_, heater_.duty_q16());
   bool newly_latched = false;
   uint16_t duty_q16;
   if (fault != Fault::kNone) {

@@ -8,7 +8,7 @@ void ThermalWatch::reset() {
   target_q8_ = 0;
 }
 
-Fault ThermalWatch::update(int32_t target_q8, int32_t temp_q8) {
+Fault ThermalWatch::update(int32_t target_q8, int32_t temp_q8, uint16_t duty_q16) {
   if (target_q8 != target_q8_) {
     reset();
     target_q8_ = target_q8;
@@ -16,7 +16,7 @@ Fault ThermalWatch::update(int32_t target_q8, int32_t temp_q8) {
   if (target_q8 == 0) return Fault::kNone;
   const int32_t error_q8 = target_q8 - temp_q8;
   if (error_q8 <= kReachedQ8) reached_ = true;
-  if (error_q8 <= kBandQ8) {  // near or above target: nothing to watch
+  if (error_q8 <= kBandQ8 || duty_q16 < kMinDutyQ16) {  // near or above target, or not heating
     periods_ = 0;
     return Fault::kNone;
   }

@@ -21,10 +21,14 @@ class ThermalWatch {
   static constexpr int32_t kMinRiseQ8 = 2L * 256;    // required rise per window: 2 degC
   static constexpr uint16_t kWindowPeriods = 938;    // 938 x 128 ms = 120.1 s
   static constexpr int32_t kReachedQ8 = 2L * 256;    // within 2 degC counts as "target reached"
+  static constexpr uint16_t kMinDutyQ16 = 32768;     // 50 %: "the heater is heating"
 
-  // Call once per control period with a plausible reading. kHeatingFailed when the target
-  // has not yet been reached since it was set, kRunaway when it had been; else kNone.
-  Fault update(int32_t target_q8, int32_t temp_q8);
+  // Call once per control period with a plausible reading and the heater duty of the period it
+  // ends. kHeatingFailed when the target has not yet been reached since it was set, kRunaway
+  // when it had been; else kNone. A period below kMinDutyQ16 restarts the window: the heater
+  // was not asked to heat (M303's baseline, cool-down and wait for the dead time hold it off
+  // for minutes on slow hotends), so no rise can be required of it.
+  Fault update(int32_t target_q8, int32_t temp_q8, uint16_t duty_q16);
   void reset();  // new target / heater off / fault cleared: start over
 
  private:

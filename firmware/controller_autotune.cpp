@@ -10,6 +10,18 @@ constexpr int32_t kDefaultTargetQ8 = 210L * 256;  // Marlin's M303 default is th
                                                   // issue 7 asks for a printing temperature
 constexpr int32_t kDefaultCycles = 5;
 
+// The three gains after their labels: " Kp: 1.00 Ki: …" (Marlin's line) or " P1.00 I…" (M301).
+// (Labels as separate arguments: GCODE_TEXT in an array initializer crashes avr-gcc 5.4's LTO.)
+void write_gains(gcode::Output& out, const gcode::FlashText* p, const gcode::FlashText* i, const gcode::FlashText* d,
+                 const control::PidGains& g) {
+  const gcode::FlashText* const labels[3] = {p, i, d};
+  const int32_t values[3] = {g.kp_q16, g.ki_q16, g.kd_q16};
+  for (uint8_t k = 0; k < 3; ++k) {
+    out.print(labels[k]);
+    out.write_q16(values[k]);
+  }
+}
+
 void write_gain_line(gcode::Output& out, const gcode::FlashText* name, int32_t value_q16) {
   out.print(GCODE_TEXT("#define DEFAULT_"));
   out.print(name);
@@ -139,12 +151,7 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
     return;
   }
   // Marlin's closing lines, which host plugins parse.
-  out.print(GCODE_TEXT(" Kp: "));
-  out.write_q16(d.pid.kp_q16);
-  out.print(GCODE_TEXT(" Ki: "));
-  out.write_q16(d.pid.ki_q16);
-  out.print(GCODE_TEXT(" Kd: "));
-  out.write_q16(d.pid.kd_q16);
+  write_gains(out, GCODE_TEXT(" Kp: "), GCODE_TEXT(" Ki: "), GCODE_TEXT(" Kd: "), d.pid);
   out.print(GCODE_TEXT("\nPID Autotune finished! Put the last Kp, Ki and Kd constants from below into "
                        "Configuration.h\n"));
   write_gain_line(out, GCODE_TEXT("Kp"), d.pid.kp_q16);
@@ -157,12 +164,8 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   write_m307(out, r.model);
   out.print(GCODE_TEXT("echo:Autotune PID (SIMC PI on that model, dead time "));
   out.write_q8(d.design_dead_time_q8);
-  out.print(GCODE_TEXT(" s): M301 P"));
-  out.write_q16(d.pid.kp_q16);
-  out.print(GCODE_TEXT(" I"));
-  out.write_q16(d.pid.ki_q16);
-  out.print(GCODE_TEXT(" D"));
-  out.write_q16(d.pid.kd_q16);
+  out.print(GCODE_TEXT(" s): M301"));
+  write_gains(out, GCODE_TEXT(" P"), GCODE_TEXT(" I"), GCODE_TEXT(" D"), d.pid);
   out.end_line();
   // State feedback + observer + dead-time predictor, designed here from the same model
   // (control/state_feedback_autodesign.h: ~400 k cycles, run right after a control step, so it

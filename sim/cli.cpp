@@ -32,7 +32,7 @@ const char* const kUsage = R"(usage:
              [--max-report-error C] [--max-steady-p2p C] [--max-recovery S]
              [--max-recovery-ratio R] [--transcript FILE] [--quiet]
              [--autotune [--tune-cycles N] [--tune-fan 0|1] [--tune-from C] [--max-tune-overshoot C]
-             [--max-model-error PCT] [--after-tune "CMD;CMD"]]
+             [--max-model-error PCT] [--after-tune "CMD;CMD"]] [--expect-reply TEXT]...
              [--svg FILE]
   hotend-sim bench [--markdown] [--autotune] [--boards a,b] [--plants x,y] [--controllers a,b]
              [--variant NAME=GCODE]... [--target C] [--fan-step S] [--seconds S] [--jobs N]
@@ -67,7 +67,8 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the cont
   tune's duration, its maximum above S and the identified model; --check adds: the tune finished
   and applied, never more than --max-tune-overshoot (5 °C) above S. --tune-from C: a hot start
   (M109 S<C> before M303); --after-tune: G-code sent when the tune has ended (e.g. "M310 S2 F1":
-  another controller on the tuned settings). Timed commands and faults may count from M303's ok: "M108@tune+90",
+  another controller on the tuned settings); --expect-reply TEXT (repeatable): --check fails
+  unless the firmware sent a line containing TEXT. Timed commands and faults may count from M303's ok: "M108@tune+90",
   --fault open@tune+60 (kinds also m108, m112: the host stops the tune).
   --svg FILE: temperature and duty against time; with --autotune from M303 on, with the response
   of the model the tune identified (simulated on the same duties) laid over the hotend's.
@@ -89,7 +90,7 @@ int run_command(const std::vector<std::string>& args) {
                      "gains-rule", "gcode", "elf", "fault", "transcript", "max-overshoot", "max-steady-error",
                      "max-report-error", "max-steady-p2p", "max-recovery", "max-recovery-ratio",
                      "tune-cycles", "tune-fan", "tune-from", "after-tune", "max-tune-overshoot", "max-model-error",
-                     "svg"});
+                     "svg", "expect-reply"});
   RunConfig c;
   c.board = board_named(o.get("board", "ramps14"));
   c.plant = plant_named(o.get("plant", "hotend40w"));
@@ -125,6 +126,7 @@ int run_command(const std::vector<std::string>& args) {
   if (o.has("max-recovery-ratio"))
     limits.max_recovery_bound_ratio = parse_number(o.get("max-recovery-ratio"), "--max-recovery-ratio");
   limits.max_tune_overshoot_c = parse_number(o.get("max-tune-overshoot", "5"), "--max-tune-overshoot");
+  limits.expected_replies = o.all("expect-reply");
   if (o.has("max-model-error"))
     limits.max_model_error = parse_number(o.get("max-model-error"), "--max-model-error") / 100.0;
 

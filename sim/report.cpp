@@ -151,6 +151,12 @@ std::vector<std::string> failed_checks(const RunResult& r, const CheckLimits& li
       within("F (fan loss)", r.tune->f, truth.fan_loss_pct, 2.0 * e);
     }
   }
+  for (const std::string& want : limits.expected_replies) {
+    bool seen = false;
+    for (const ReplyLine& line : r.transcript)
+      seen = seen || (line.text.rfind("< ", 0) == 0 && line.text.find(want) != std::string::npos);
+    require(seen, "the firmware never replied \"" + want + "\"");
+  }
   if (!r.config.fault_in_tune) require(r.heating_start_s.has_value(), "the firmware never acknowledged M104");
   require(r.cpu == CpuState::kRunning, "the simulated CPU stopped or crashed");
   if (!r.heating_start_s && !r.config.fault_in_tune) return failed;

@@ -29,6 +29,9 @@ struct CheckLimits {
   // On plants that are exactly FOPDT: the tuned M307 A, C, D within this fraction of the
   // plant's, F within twice it (issue 7: 10 % and 20 %). Off unless given.
   std::optional<double> max_model_error;
+  // Replies the firmware must have sent (a received line containing each text), e.g. the M310
+  // report after M502 + M501 that shows the stored controller came back.
+  std::vector<std::string> expected_replies;
 };
 
 void print_report(std::ostream& out, const RunResult& result);

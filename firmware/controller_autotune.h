@@ -26,8 +26,9 @@ class AutotuneJob {
  public:
   enum class Stop : uint8_t { kUser, kFault };  // M108 / M104 S0 / M112, or a latched fault
 
-  // constexpr: the global instance is zero-initialised (.bss), with no start-up code.
-  explicit constexpr AutotuneJob(ControllerBank& bank) : bank_(bank) {}
+  // The engine's ~770 bytes of state live in their own zero-initialised object (.bss): inside
+  // this one, next to the bank's address, they would be initialised data (flash + RAM).
+  constexpr AutotuneJob(ControllerBank& bank, control::Autotune& engine) : bank_(bank), tune_(engine) {}
 
   // M303 (the command is M303): prints the Error line and returns false for bad parameters or
   // when `refusal` (the machine's reason, e.g. a latched fault) is set; else starts the tune,
@@ -56,7 +57,7 @@ class AutotuneJob {
   void write_failure(gcode::Output& out) const;
 
   ControllerBank& bank_;
-  control::Autotune tune_;
+  control::Autotune& tune_;
   control::AutotuneCycle cycle_{0, 0, 0, 0};  // copied at the event: printed later
   control::AutotuneUltimate ultimate_{0, 0};
   int32_t target_q8_ = 0;

@@ -26,7 +26,8 @@ namespace {
 firmware::SerialOutput g_out;
 firmware::ControllerBank g_bank(firmware::load_surface_cell);
 firmware::HeaterManager g_heater(g_bank);
-firmware::AutotuneJob g_tune(g_bank);
+control::Autotune g_autotune;  // zero-initialised: .bss
+firmware::AutotuneJob g_tune(g_bank, g_autotune);
 firmware::ControlLoop g_loop(g_heater, g_tune, g_out);
 firmware::HotendMachine g_machine(g_heater, g_loop, g_bank, g_tune, g_out);
 gcode::Interpreter g_gcode(g_machine, g_out);

@@ -39,7 +39,8 @@ constexpr int32_t kCoolDropQ8 = 3 * kQ8;        // a hot start waits for this mu
 constexpr int32_t kAssumedSlopeQ8PerS = 20 * kQ8;  // worst-case heating rate for the first pulse
 constexpr int32_t kSettleBandQ8 = kQ8 / 2;  // |target − reading| for the relay to start
 constexpr int32_t kAmplitudeQ8 = kQ8 * 3 / 2;   // relay half amplitude aimed at
-constexpr int32_t kHysteresisQ8 = kQ8 / 5;      // relay switches at target ± 0.2 °C (filtered)
+constexpr int32_t kHysteresisQ8 = kQ8 / 5;
+constexpr int32_t kGuardMarginQ8 = 2 * kQ8;     // untrusted model: relay's trend limit above target      // relay switches at target ± 0.2 °C (filtered)
 constexpr uint16_t kMinDutyStepQ16 = 328;       // d ≥ 0.5 %
 constexpr uint16_t kMaxDutyStepQ16 = 16384;     // d ≤ 25 %
 constexpr uint16_t kFull = 65535;
@@ -452,7 +453,10 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
       peak_bin_ = k;
       y_peak_q8_ = y_bin_q8_;
     } else if ((k - peak_bin_ >= 2 && dev_q8_ < dev_peak_q8_ - kQ8 / 16) || since_off > t90_) {
-      peaked_ = true;  // (after 90 s: a plateau, a near-integrating hotend: take the highest)
+      // (after 90 s: a plateau, a near-integrating or very slow hotend: take the highest, and
+      // do not trust the model it gives)
+      if (since_off > t90_) untrusted_ = true;
+      peaked_ = true;
     }
     return 0;
   }
@@ -471,6 +475,8 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
     if (horizon_ticks_ < kTicksPerBin) horizon_ticks_ = kTicksPerBin;
     const uint32_t hb = (static_cast<uint32_t>(horizon_ticks_) + kTicksPerBin - 1) / kTicksPerBin + 1;
     horizon_bins_ = static_cast<uint8_t>(hb > kRingBins - 2 ? kRingBins - 2 : hb);
+    if (hb > kRingBins - 2) untrusted_ = true;  // the response outlasts the model's history
+    guard_bins_ = static_cast<uint8_t>(2 * horizon_bins_ + 8);
     // Approach: closed-loop time constant = the horizon (≥ 3 bins); P gain 1/(S·τ).
     const uint8_t tau = static_cast<uint8_t>(horizon_bins_ < 3 ? 3 : horizon_bins_ + horizon_bins_ / 4);
     const uint32_t g = (uint32_t{1} << 24) / (static_cast<uint32_t>(slope_q8_) * tau);
@@ -511,6 +517,13 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   duty_q16_ = heater_on_ ? kFull : 0;
   heater_on_ = false;
   return 0;
+}
+
+// Untrusted model: the reading a bin ahead by its 4-bin trend over guard_bins_ (rising only).
+// |s4| < 2^15 per bin, × ≤ 132.
+int32_t Autotune::trend_q8() const {
+  const int32_t s4 = div2n<2>(y_bin_q8_ - y_hist_q8_[3]);
+  return s4 > 0 ? y_bin_q8_ + s4 * guard_bins_ : y_bin_q8_;
 }
 
 // One 32-bit division: loss ≤ 2^14 (°C/bin × 256, clamped), × 2^16 < 2^31.
@@ -607,11 +620,20 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       return 6;
     case 6: {
       const int32_t predicted = y_bin_q8_ + model_ago(0) - model_ago(horizon_bins_);
-      const int32_t ex = fixed::clamp(target_q8_ - predicted, -200 * kQ8, 200 * kQ8);
+      int32_t ex = fixed::clamp(target_q8_ - predicted, -200 * kQ8, 200 * kQ8);
+      if (untrusted_) {
+        // The reading's own trend over the guard horizon must stay below the target: an
+        // approach no faster than distance / guard, whatever the model says.
+        const int32_t guard = target_q8_ - trend_q8();
+        if (guard < ex) ex = guard;
+      }
       const int32_t u = steady_q16_ + ((ex * gain_q8_) >> 8);  // |ex·gain| ≤ 51,200 · 40,000 < 2^31
       duty_q16_ = clamp_duty(u);
       duty_avg_q16_ += div2n<2>(static_cast<int32_t>(duty_q16_) - duty_avg_q16_);
-      settled_bins_ = abs32(target_q8_ - y_bin_q8_) < kSettleBandQ8 ? static_cast<uint8_t>(settled_bins_ + 1) : 0;
+      // (An untrusted model's P law may stall short of the target: the relay takes over nearer.)
+      settled_bins_ = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? 4 * kSettleBandQ8 : kSettleBandQ8)
+                          ? static_cast<uint8_t>(settled_bins_ + 1)
+                          : 0;
       // Crossings of the target (±0.3 °C): a slow hotend that the approach leaves swinging around
       // it goes to the relay at the second crossing, whose bias adaptation takes over.
       const int8_t side = y_bin_q8_ > target_q8_ + kQ8 * 3 / 10 ? 1 : (y_bin_q8_ < target_q8_ - kQ8 * 3 / 10 ? -1 : 0);
@@ -650,6 +672,7 @@ uint8_t Autotune::relay_stage(uint8_t stage) {
   }
   if (stage == 2) {
     model_anchor();
+    guard_off_ = untrusted_ && trend_q8() > target_q8_ + kGuardMarginQ8;
     return 3;
   }
   if (stage == 3) {
@@ -726,6 +749,7 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
   }
   set_levels();
   duty_q16_ = relay_hi_ ? static_cast<uint16_t>(bias_q16_ + d_q16_) : static_cast<uint16_t>(bias_q16_ - d_q16_);
+  if (guard_off_) duty_q16_ = 0;
   return ended;
 }
 

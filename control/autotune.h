@@ -144,6 +144,7 @@ class Autotune {
   void model_anchor();
   void start_probe();
   int32_t steady_from_model() const;
+  int32_t trend_q8() const;
   void set_levels();
   bool relay_tick(int32_t yf, int32_t y);  // true when a cycle ended
   void end_cycle(uint16_t t_lo);
@@ -251,6 +252,12 @@ class Autotune {
   uint16_t fill_a_q16_ = 0;     // 1/T the history runs with
   uint8_t fill_head_ = 0;       // ring_head_ when the approach began
   int32_t pending_q8_ = 0;      // a value carried from one stage to the next
+  // The probe's model cannot be trusted (cut-to-peak time beyond the history, or no clean peak):
+  // the approach and the relay then also keep the reading's own
+  // trend over guard_bins_ below the target (+ a margin in the relay): slower, never above S + 5.
+  bool untrusted_ = false;
+  bool guard_off_ = false;      // relay: heater off while the trend would carry the reading too high
+  uint8_t guard_bins_ = 0;
 
   // Relay.
   uint16_t longest_half_ = 0;

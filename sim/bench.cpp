@@ -154,14 +154,14 @@ void print_bench_table(std::ostream& out, const std::vector<BenchCase>& cases,
     rows.emplace_back();
     for (const Column& c : cols) rows.back().push_back(c.cell(cases[i], results[i]));
   }
-  std::vector<std::size_t> widths(cols.size(), 0);
-  for (const auto& row : rows)
-    for (std::size_t i = 0; i < row.size(); ++i) widths[i] = std::max(widths[i], width(row[i]));
   if (markdown)  // a '|' inside a cell ("max |err|") would split it into two columns
     for (auto& row : rows)
       for (std::string& cell : row)
         for (std::size_t at = cell.find('|'); at != std::string::npos; at = cell.find('|', at + 2))
           cell.replace(at, 1, "\\|");
+  std::vector<std::size_t> widths(cols.size(), 0);
+  for (const auto& row : rows)
+    for (std::size_t i = 0; i < row.size(); ++i) widths[i] = std::max(widths[i], width(row[i]));
   for (std::size_t r = 0; r < rows.size(); ++r) {
     for (std::size_t i = 0; i < rows[r].size(); ++i) {
       const std::string& cell = rows[r][i];

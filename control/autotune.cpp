@@ -826,6 +826,11 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
       // approach controller ride it out and re-learn the loss, then relay again with the fan.
       fan_ = 255;
       fan_pending_ = true;
+      // Expect a typical fan's extra loss at once (+40 % of the loss rate, hotend40w's 43 %), so
+      // the approach raises the duty with the fan instead of after a dip that can last minutes
+      // on slow hotends; the relay then measures the real figure. inv_t·26214 < 2^31.
+      inv_t_q16_ = static_cast<uint16_t>(fixed::sat_u16(static_cast<int32_t>(
+          inv_t_q16_ + ((uint32_t{inv_t_q16_} * 26214u) >> 16))));
       settled_bins_ = 0;
       full_bins_ = 0;
       enter(Phase::kApproach);

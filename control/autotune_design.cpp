@@ -15,7 +15,6 @@ bool design_from_tune(const AutotuneResult& tune, uint16_t period_ms, TunedDesig
   if (l_q8 < quarter_tu_q8) l_q8 = quarter_tu_q8;
   if (l_q8 < kMinDesignDeadTimeQ8) l_q8 = kMinDesignDeadTimeQ8;
   if (l_q8 > kModelMaxDeadTimeQ8) return false;
-  out->design_dead_time_q8 = l_q8;
   out->model.dead_time_q8 = l_q8;  // the feedforward's heat-up must respect the same delay
   const uint32_t l = static_cast<uint32_t>(l_q8);
 

@@ -21,9 +21,8 @@
 namespace control {
 
 struct TunedDesign {
-  HotendModel model;           // M307
-  PidGains pid;                // M301
-  int32_t design_dead_time_q8;  // the L the PID rule used, s × 256
+  HotendModel model;  // M307; its dead time is the L the PID rule used
+  PidGains pid;       // M301
 };
 
 // The shortest dead time the PID rule accepts (s × 256): below it the SIMC gain would grow

@@ -38,9 +38,8 @@ class PlantSim {
       fan_line_[head_] = fan_;
       const int tail = (head_ + kMaxDelaySteps - delay_steps_) % kMaxDelaySteps;
       head_ = (head_ + 1) % kMaxDelaySteps;
-      const double cooled = m_.fan_state >= 0 ? x_(m_.fan_state, 0) : (m_.c * x_)(0, 0);
-      const double input =
-          gain_ * line_[tail] + disturbance_ - m_.fan_loss_per_k * fan_line_[tail] * cooled;
+      const double lost = (fan_row_ * x_)(0, 0);  // heater-duty equivalent at 100 % fan
+      const double input = gain_ * line_[tail] + disturbance_ - fan_line_[tail] * lost;
       x_ = step_.phi * x_ + input * step_.gamma;
       t_s_ += kDt;
     }
@@ -68,6 +67,7 @@ class PlantSim {
 
   LtiModel m_;
   ExpIntegral step_;
+  Mat fan_row_ = fan_row(m_);
   Mat x_;
   double line_[kMaxDelaySteps] = {};
   double fan_line_[kMaxDelaySteps] = {};  // the fan's loss takes the heater's path

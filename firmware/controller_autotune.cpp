@@ -63,7 +63,6 @@ bool AutotuneJob::begin(const gcode::Command& cmd, gcode::Output& out, const gco
   apply_ = use != 0;
   stopped_by_fault_ = false;
   pending_ = 0;
-  cycles_seen_ = 0;
   user_fan_ = fan_duty;
   out.print(GCODE_TEXT("PID Autotune start\n"));
   return true;
@@ -103,7 +102,6 @@ bool AutotuneJob::report(gcode::Output& out, const HandOver& now) {
     out.print(GCODE_TEXT(" max: "));
     out.write_q8(cycle_.max_q8);
     out.end_line();
-    ++cycles_seen_;
   }
   if (pending_ & kUltimateLine) {
     out.print(GCODE_TEXT(" Ku: "));
@@ -163,7 +161,7 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   out.print(r.model.fan_loss_pct_q8 != 0 ? GCODE_TEXT(", part fan): ") : GCODE_TEXT("): "));
   write_m307(out, r.model);
   out.print(GCODE_TEXT("echo:Autotune PID (SIMC PI on that model, dead time "));
-  out.write_q8(d.design_dead_time_q8);
+  out.write_q8(d.model.dead_time_q8);
   out.print(GCODE_TEXT(" s): M301"));
   write_gains(out, GCODE_TEXT(" P"), GCODE_TEXT(" I"), GCODE_TEXT(" D"), d.pid);
   out.end_line();

@@ -62,7 +62,6 @@ class AutotuneJob {
   control::AutotuneUltimate ultimate_{0, 0};
   int32_t target_q8_ = 0;
   uint8_t pending_ = 0;
-  uint8_t cycles_seen_ = 0;
   uint8_t user_fan_ = 0;
   bool apply_ = false;
   bool stopped_by_fault_ = false;

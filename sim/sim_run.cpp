@@ -1,6 +1,7 @@
 #include "sim/sim_run.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -38,6 +39,17 @@ std::string format_gains(const MarlinGains& g) {
 }
 
 std::string format_target(double target_c) { return "M104 S" + format_decimal(target_c); }
+
+// A, C, D, F of the "M307 A… C… D… F…" at the start of `text` (letters absent stay 0).
+std::array<double, 4> m307_values(const std::string& text) {
+  std::array<double, 4> v{0, 0, 0, 0};
+  const std::string letters = "ACDF";
+  for (const std::string& word : split(text, ' ')) {
+    const std::size_t i = word.size() < 2 ? std::string::npos : letters.find(word[0]);
+    if (i != std::string::npos) v[i] = std::atof(word.c_str() + 1);
+  }
+  return v;
+}
 
 class Runner {
  public:
@@ -189,8 +201,7 @@ void Runner::on_line(const ReplyLine& line) {
   if (collecting_m311_) {
     const std::string prefix = "echo:  M311 I";
     if (line.text.rfind(prefix, 0) == 0) board_m311_.push_back(line.text.substr(7));
-    if (line.text == "ok" || line.text.rfind("echo:  M310", 0) == 0) {
-      if (line.text != "ok") return;
+    if (line.text == "ok") {  // M503's: its lines are complete
       collecting_m311_ = false;
       result_.tune->board_design_matches_host = board_m311_ == expected_m311_;
     }
@@ -237,14 +248,8 @@ void Runner::on_tune_line(const std::string& text, double t_s) {
   const std::size_t m307 = text.find("M307 ");
   if (starts("echo:Autotune model") && m307 != std::string::npos) {
     tune.model_line = text.substr(m307);
-    for (const std::string& word : split(tune.model_line, ' ')) {
-      if (word.size() < 2) continue;
-      const double v = std::atof(word.c_str() + 1);
-      if (word[0] == 'A') tune.a = v;
-      if (word[0] == 'C') tune.c = v;
-      if (word[0] == 'D') tune.d = v;
-      if (word[0] == 'F') tune.f = v;
-    }
+    const std::array<double, 4> v = m307_values(tune.model_line);
+    tune.a = v[0], tune.c = v[1], tune.d = v[2], tune.f = v[3];
   }
   const std::size_t m301 = text.find("M301 ");
   if (starts("echo:Autotune PID") && m301 != std::string::npos) tune.pid_line = text.substr(m301);
@@ -268,15 +273,9 @@ void Runner::on_tune_line(const std::string& text, double t_s) {
 void Runner::expect_board_design(const std::string& applied) {
   const std::size_t at = applied.find("M307 ");
   if (at == std::string::npos) return;
-  int32_t q8[4] = {0, 0, 0, 0};
-  for (const std::string& word : split(applied.substr(at + 5), ' ')) {
-    if (word.size() < 2) continue;
-    const int32_t v = static_cast<int32_t>(std::lround(std::atof(word.c_str() + 1) * 256.0));
-    if (word[0] == 'A') q8[0] = v;
-    if (word[0] == 'C') q8[1] = v;
-    if (word[0] == 'D') q8[2] = v;
-    if (word[0] == 'F') q8[3] = v;
-  }
+  int32_t q8[4];
+  const std::array<double, 4> v = m307_values(applied.substr(at));
+  for (int i = 0; i < 4; ++i) q8[i] = static_cast<int32_t>(std::lround(v[i] * 256.0));
   control::StateFeedbackConstants k;
   if (!control::design_state_feedback_fopdt(control::HotendModel{q8[0], q8[1], q8[2], q8[3]}, 128, &k)) {
     result_.problems.push_back("the host's build of the board design refuses the applied " + applied.substr(at));

@@ -425,7 +425,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
       extend_ = true;  // the heater stays on through the hand-over stages
       slope_rise_q8_ = slope_max_dev_q8_ + base_rise_q8_;
       slope_q8_ = slope_max_q8_;
-      inv_t_q16_ = 0;
+      inv_t_q16_ = base_rate_q16_;  // a hot start's decay is the loss rate; cold: learnt at full power
       full_bins_ = static_cast<uint8_t>(on_ticks_ / kTicksPerBin > 250 ? 250 : on_ticks_ / kTicksPerBin);
       return 2;
     }
@@ -477,10 +477,7 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
     horizon_bins_ = static_cast<uint8_t>(hb > kRingBins - 2 ? kRingBins - 2 : hb);
     if (hb > kRingBins - 2) untrusted_ = true;  // the response outlasts the model's history
     guard_bins_ = static_cast<uint8_t>(2 * horizon_bins_ + 8);
-    // Approach: closed-loop time constant = the horizon (≥ 3 bins); P gain 1/(S·τ).
-    const uint8_t tau = static_cast<uint8_t>(horizon_bins_ < 3 ? 3 : horizon_bins_ + horizon_bins_ / 4);
-    const uint32_t g = (uint32_t{1} << 24) / (static_cast<uint32_t>(slope_q8_) * tau);
-    gain_q8_ = static_cast<int32_t>(g > 40000 ? 40000 : g);
+    set_approach_gain();
     return 21;
   }
   if (stage == 21) {
@@ -517,6 +514,14 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   duty_q16_ = heater_on_ ? kFull : 0;
   heater_on_ = false;
   return 0;
+}
+
+// Approach: closed-loop time constant = the horizon (≥ 3 bins); P gain 1/(S·τ). One division:
+// S ≤ 2^15 (clamped where it is learnt) × τ ≤ 77 < 2^22.
+void Autotune::set_approach_gain() {
+  const uint8_t tau = static_cast<uint8_t>(horizon_bins_ < 3 ? 3 : horizon_bins_ + horizon_bins_ / 4);
+  const uint32_t g = (uint32_t{1} << 24) / (static_cast<uint32_t>(slope_q8_) * tau);
+  gain_q8_ = static_cast<int32_t>(g > 40000 ? 40000 : g);
 }
 
 // Untrusted model: the reading a bin ahead by its 4-bin trend over guard_bins_ (rising only).
@@ -613,7 +618,20 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
           const uint32_t inv_t = ((ds > 32767 ? 32767 : ds) << 16) / static_cast<uint32_t>(at - ref_rise_q8_);
           inv_t_q16_ = static_cast<uint16_t>(inv_t > 16384 ? 16384 : inv_t);
         }
+        // A probe cut short while the lags were still filling (a hot start has little room
+        // below the target) leaves S low, so the steady duty ū = loss/S comes out high and the
+        // approach overshoots. At full power with the lags filled, ẏ = S − rise/T: a steeper
+        // S shown here replaces it (never lowered: a low S only errs towards overshoot).
+        // at·(1/T) < 2^17, s4 < 2^15: the sum < 2^18, clamped to 2^15 as the probe's S.
+        const int32_t s_full = fixed::clamp(s4 + fixed::mul_q16(at, inv_t_q16_), int32_t{0}, int32_t{32767});
+        if (s_full > slope_q8_ + div2n<4>(slope_q8_)) {
+          slope_q8_ = s_full;
+          return 8;
+        }
       }
+      return 5;
+    case 8:
+      set_approach_gain();
       return 5;
     case 5:
       steady_q16_ = steady_from_model();

@@ -144,6 +144,7 @@ class Autotune {
   void model_anchor();
   void start_probe();
   int32_t steady_from_model() const;
+  void set_approach_gain();
   int32_t trend_q8() const;
   void set_levels();
   bool relay_tick(int32_t yf, int32_t y);  // true when a cycle ended

@@ -171,8 +171,10 @@ void Interpreter::poll(uint32_t now_ms) {
   if (waiting()) {
     const HeaterStatus status = machine_.heater_status();
     const int32_t error_q8 = status.temp_q8 - status.target_q8;
-    const bool reached = status.target_q8 == 0 || error_q8 >= -kWaitWindowQ8;
-    if (status.fault || (reached && (wait_ == Wait::kHeating || error_q8 <= kWaitWindowQ8))) {
+    // A target of 0 (heater off) ends either kind of wait: M109 R0 would otherwise wait for the
+    // hotend to cool to 0 °C, which never happens.
+    const bool reached = error_q8 >= -kWaitWindowQ8;
+    if (status.fault || status.target_q8 == 0 || (reached && (wait_ == Wait::kHeating || error_q8 <= kWaitWindowQ8))) {
       finish_wait();
     } else if (since_report_ms >= kWaitReportMs) {
       write_temperatures();

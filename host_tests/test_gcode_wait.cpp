@@ -56,6 +56,15 @@ TEST(GcodeWait, M109ZeroTargetEndsAtOnce) {
   EXPECT_EQ(rig.poll(1), "ok\n");
 }
 
+TEST(GcodeWait, M109R0EndsAtOnceWhileHot) {
+  // Found by the fuzz target: M109 R0 waited for the hotend to cool to 0 °C, for ever.
+  Rig rig;
+  rig.machine.status.temp_q8 = 200 * 256;
+  EXPECT_EQ(rig.send("M109 R0\n"), "");
+  EXPECT_EQ(rig.poll(1), "ok\n");
+  EXPECT_FALSE(rig.gcode.waiting());
+}
+
 TEST(GcodeWait, RefusedM109AnswersAtOnceAndDoesNotWait) {
   Rig rig;
   EXPECT_EQ(rig.send("M109 S300\n"), "Error:M109 S out of range 0..275\nok\n");

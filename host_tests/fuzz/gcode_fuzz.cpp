@@ -6,6 +6,8 @@
 //   - a line answered with "Error:" (other than M112's stop and a resend request, which do not
 //     touch the settings either) changes no setting: the bank's settings, the state-feedback
 //     constants and M503's text are as before.
+// After every line the controller in force runs a few control periods across the whole
+// temperature range, so settings that overflow the control law show up as UBSan reports.
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
@@ -87,6 +89,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (out.find('\0') != std::string::npos) fail("NUL in the reply", line, out);
     if (!out.empty() && out.back() != '\n') fail("reply does not end its line", line, out);
     line.clear();
+    // Whatever the settings are now, the control law must run: readings from 0 to 500 °C
+    // against a 210 °C target with the fan on and off (int32 overflow is a UBSan report).
+    for (int32_t t = 0; t <= 500; t += 125) {
+      rig.machine.bank.step(control::StepInput{210L * 256, t * 256, static_cast<uint8_t>(t & 0x80 ? 255 : 0)});
+    }
   }
   return 0;
 }

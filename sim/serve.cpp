@@ -138,7 +138,8 @@ void Server::on_host_line(const std::string& line) {
   if (!s) return;
   const double now = rig_.board().time_s();
   if (*s > 0.0 && !heating_start_s_) heating_start_s_ = now;
-  if (is_set_point) {
+  const double current = result_.set_points.empty() ? 0.0 : result_.set_points.back().target_c;
+  if (is_set_point && *s != current) {
     result_.set_points.push_back(SetPoint{now, *s});
     rig_.set_target(*s);
   }
@@ -164,7 +165,7 @@ void Server::on_board_line(const ReplyLine& line) {
     rig_.set_reported(report->temp_c);
     // The board's own target corrects the host-line parse (a line it refused, M112, a tune's end).
     const double current = result_.set_points.empty() ? 0.0 : result_.set_points.back().target_c;
-    if (report->target_c != current) {
+    if (line.text.find('/') != std::string::npos && report->target_c != current) {
       result_.set_points.push_back(SetPoint{line.t_s, report->target_c});
       rig_.set_target(report->target_c);
     }

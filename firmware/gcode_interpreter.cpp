@@ -33,10 +33,11 @@ char* read_digits(char* s, int32_t* value) {
   return s;
 }
 
-// Start of the command text after an optional "N<digits>".
+// Start of the command text after an optional "N<digits>" (or "N-1").
 char* after_line_number(char* line) {
   if (to_upper(*line) != 'N') return line;
   ++line;
+  if (*line == '-') ++line;
   while (is_digit(*line)) ++line;
   return line;
 }
@@ -49,6 +50,11 @@ LineFrame frame_line(char* line) {
     frame.numbered = true;
     // Saturated (absurdly long) numbers never match the expected one.
     frame.number_ok = read_digits(line + 1, &frame.number) != nullptr && frame.number < 0x7FFFFFFF;
+    // printrun resets with "N-1 M110*15" (its next line is N0); only -1 is meaningful.
+    if (line[1] == '-') {
+      frame.number_ok = read_digits(line + 2, &frame.number) != nullptr && frame.number == 1;
+      frame.number = -1;
+    }
   }
   uint8_t checksum = 0;  // XOR of every byte before '*' (the RepRap host convention)
   for (char* p = line; *p != '\0'; ++p) {

@@ -121,6 +121,16 @@ TEST(GcodeProtocol, NumberedM110IsExemptFromTheSequence) {
   EXPECT_EQ(rig.send(numbered(42, "M105")), "ok T:25.00 /0.00 @:0\n");
 }
 
+TEST(GcodeProtocol, PrintrunsMinusOneM110MakesTheNextLineZero) {
+  Rig rig;
+  rig.send(numbered(1, "M105"));
+  EXPECT_EQ(rig.send(numbered(-1, "M110")), "ok\n");  // printcore's "N-1 M110*15"
+  EXPECT_EQ(rig.send(numbered(0, "M105")), "ok T:25.00 /0.00 @:0\n");
+  EXPECT_EQ(rig.send(numbered(-1, "M105")),
+            "Error:Line number is not last line number+1, Last Line: 0\nResend: 1\nok\n");
+  EXPECT_EQ(rig.send(numbered(-2, "M110")), "Error:Bad line number, Last Line: 0\nResend: 1\nok\n");
+}
+
 TEST(GcodeProtocol, M110NeedsAValidNumber) {
   Rig rig;
   EXPECT_EQ(rig.send("M110 N-1\n"), "Error:M110 N must be an integer in 0..2147483646\nok\n");

@@ -97,6 +97,7 @@ void AvrBoard::after_reset() {
   uart_xon_ = false;  // RX is off until the firmware enables it again (which signals XON)
   apply_adc_remap();
   for (auto& p : periodics_) avr_cycle_timer_register(avr_.get(), p->period_cycles, &Periodic::fire, p.get());
+  if (uart_line_) avr_cycle_timer_register(avr_.get(), 1, &UartLine::fire, uart_line_.get());
   for (auto& hook : reset_hooks_) hook();
 }
 

@@ -46,11 +46,20 @@ class AvrBoard {
   uint64_t cycles_from_s(double seconds) const;
   double frequency_hz() const;
 
-  // UART0: every byte the firmware transmits; bytes in are accepted only while the UART
-  // signals XON (simavr drops bytes raised at other times).
-  void on_uart_byte(std::function<void(uint8_t)> handler) { uart_handler_ = std::move(handler); }
+  // UART0: every byte the firmware transmits (to each handler); bytes in are accepted only while
+  // the UART signals XON (simavr drops bytes raised at other times).
+  void on_uart_byte(std::function<void(uint8_t)> handler) { uart_handlers_.push_back(std::move(handler)); }
   bool uart_accepting() const { return uart_xon_; }
   bool uart_send(uint8_t byte);
+
+  // The host→board wire as on the chip (serve): whenever the line is free — one frame after the
+  // last byte began, the frame being start + data + parity + stop bits at the bit time UBRR0
+  // and U2X0 give — and the receiver is on, `next_byte` is asked for the next byte (-1: idle).
+  // A byte arriving while the receiver already holds two unread bytes and one being shifted in
+  // is lost (a data overrun), as on silicon; simavr's own 64-byte FIFO would hide it.
+  void feed_uart_line(std::function<int()> next_byte);
+  uint64_t uart_frame_cycles() const;  // 0 until the firmware has set the UART up
+  uint64_t uart_overruns() const;
 
   // The voltage (mV, integer as simavr takes it) of an analog input at the start of each of its
   // conversions. `channel` is the board's ADC number (ADC13 on RAMPS is 13).
@@ -79,6 +88,7 @@ class AvrBoard {
  private:
   struct Periodic;
   struct AdcFeed;
+  struct UartLine;
 
   void load(const BoardSpec& spec, const std::string& elf_path);
   void attach_uart();
@@ -108,7 +118,8 @@ class AvrBoard {
   std::vector<std::unique_ptr<AdcFeed>> adc_feeds_;
   std::vector<std::unique_ptr<Periodic>> periodics_;
   std::vector<std::function<void()>> reset_hooks_;
-  std::function<void(uint8_t)> uart_handler_;
+  std::vector<std::function<void(uint8_t)>> uart_handlers_;
+  std::unique_ptr<UartLine> uart_line_;
   avr_irq_t* uart_irqs_ = nullptr;
   avr_irq_t* adc_irqs_ = nullptr;
   bool uart_xon_ = false;

@@ -32,7 +32,7 @@ void AvrBoard::attach_uart() {
       uart_irqs_ + UART_IRQ_OUTPUT,
       [](avr_irq_t*, uint32_t value, void* param) {
         auto* self = static_cast<AvrBoard*>(param);
-        if (self->uart_handler_) self->uart_handler_(static_cast<uint8_t>(value));
+        for (auto& handler : self->uart_handlers_) handler(static_cast<uint8_t>(value));
       },
       this);
   avr_irq_register_notify(

@@ -6,6 +6,7 @@
 
 extern "C" {
 #include <avr_adc.h>
+#include <avr_uart.h>
 #include <sim_avr.h>
 }
 
@@ -43,6 +44,14 @@ struct AvrBoard::PinWatch {
     auto* w = static_cast<PinWatch*>(param);
     w->meter->set_output((ddr >> w->bit) & 1u, w->board->cycle());
   }
+};
+
+struct AvrBoard::UartLine {
+  AvrBoard* board;
+  avr_uart_t* uart;  // simavr's UART0 (its registers and receive FIFO)
+  std::function<int()> next_byte;
+  uint64_t overruns = 0;
+  static avr_cycle_count_t fire(avr_t* avr, avr_cycle_count_t when, void* param);
 };
 
 }  // namespace sim

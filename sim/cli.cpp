@@ -16,6 +16,7 @@
 #include "sim/report.h"
 #include "sim/run_setup.h"
 #include "sim/run_files.h"
+#include "sim/serve_command.h"
 #include "sim/sim_run.h"
 #include "sim/svg_plot.h"
 
@@ -38,6 +39,8 @@ const char* const kUsage = R"(usage:
              [--variant NAME=GCODE]... [--target C] [--fan-step S] [--seconds S] [--jobs N]
              [--noise-lsb SIGMA] [--seed N] [--gains P,I,D | --gains-rule RULE] [--gcode "CMD@T"]
              [--csv-dir DIR] [--plots DIR] [--elf-dir DIR]
+  hotend-sim serve [--board B] [--plant P] [--link PATH] [--speed X] [--fault KIND@T]... [--csv FILE]
+             [--elf FILE] [--noise-lsb SIGMA] [--seed N]
   hotend-sim list
   hotend-sim plot --out FILE.svg [--title TEXT] RUN.csv...
 
@@ -81,6 +84,14 @@ bench: every controller × board × plant (or the given ones) in parallel, heati
   controller on the first board. --autotune (or "autotune" in --controllers): M303 U1 first, then
   the tuned controller's heat-up and fan step, beside pid+ff from the plant's own model and
   marlin-zn (Marlin's M303); adds the tune's duration, maximum above S and the model found.
+serve: a virtual printer. Boots the firmware on the plant and exposes UART0 as a pseudo-terminal
+  (printed; --link makes a symlink to it) for pronsole, Pronterface or OctoPrint at 115200 baud.
+  Real time unless --speed X (X × real time: the host's timing stretches with it). Host bytes
+  reach the UART at the line rate the firmware programmed (what the host writes ahead waits in
+  the kernel's pty buffer; a full RX ring loses bytes, as on silicon). --fault KIND@T (as run's,
+  repeatable) T s after the host's first M104/M109/M303 with S > 0. Ends on SIGINT/SIGTERM
+  with the session's report (the last set-point's control quality, Error: lines); --csv FILE
+  writes the trace.
 plot: temperature and heater duty of several --csv runs against time in one SVG.
 )";
 
@@ -224,6 +235,7 @@ int cli_main(int argc, char** argv) {
     if (command == "run") return run_command(args);
     if (command == "bench") return bench_command(args);
     if (command == "list") return list_command();
+    if (command == "serve") return serve_command(args);
     if (command == "plot") return plot_command(args);
     if (command == "help") {
       std::cout << kUsage;

@@ -5,8 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
-#include <deque>
-#include <limits>
 
 #include "sim/cli_args.h"
 #include "control/state_feedback_autodesign.h"
@@ -14,20 +12,12 @@
 #include "sim/plant_model.h"
 #include "sim/host_session.h"
 #include "sim/run_files.h"
-#include "sim/sensor.h"
+#include "sim/fault_injection.h"
+#include "sim/hotend_rig.h"
 
 namespace sim {
 namespace {
 
-constexpr uint32_t kPlantStepUs = 1000;  // plant and host are serviced every simulated ms
-constexpr double kPlantStepS = kPlantStepUs * 1e-6;
-// One trace sample per heater PWM period of the firmware (brief: 128 ticks of 1 ms, and the
-// plant steps are aligned with the ticks): per-sample means of the true temperature and the
-// duty are then free of the PWM ripple a single-lag model shows (±0.3 °C on seed002).
-constexpr int kStepsPerTraceSample = 128;
-// A T: report may describe the mean over the last control period (128 ms), printed up to one
-// more period later: it is compared with the true temperature over this window before it.
-constexpr double kReportLatencyS = 0.3;
 constexpr double kBootTimeoutS = 5.0;
 constexpr double kSetupTimeoutS = 30.0;
 constexpr double kTuneTimeoutS = 10800.0;  // M303 (its own limit: 30 min) plus the cool-down (seed000: ~80 min)
@@ -57,7 +47,7 @@ class Runner {
   RunResult run();
 
  private:
-  void on_plant_step();
+  void on_plant_step(double now_s, double true_c);
   void on_line(const ReplyLine& line);
   void start_setup();
   void send_heat_up();
@@ -65,7 +55,6 @@ class Runner {
   void send_due_commands(double now_s);
   void inject_fault(double now_s);
   void check_report(const TempReport& report);
-  void record_trace(double now_s);
   void finish();
   void evaluate_fault_outcome();
   bool before_fault(double t_s) const {
@@ -74,29 +63,17 @@ class Runner {
 
   RunConfig config_;
   RunResult result_;
-  AvrBoard board_;
-  Plant plant_;
-  ThermistorAdc adc_;
+  HotendRig rig_;
+  AvrBoard& board_;
   HostSession session_;
 
   std::vector<TimedCommand> timed_;  // sorted by at_s
   std::vector<TimedCommand> tune_timed_;  // timed from M303's ok (line cleared once sent)
   std::size_t next_timed_ = 0;
   double next_m105_s_ = 0.0;
-  double target_sent_c_ = 0.0;
   std::optional<double> fault_abs_s_;
   std::optional<double> reset_after_fault_s_;          // first CPU reset after the fault
   uint64_t heater_turn_ons_at_that_reset_ = 0;         // heater().turn_on_count() right after it
-  std::deque<std::pair<double, double>> recent_true_;  // (t, true °C) over kReportLatencyS
-  // Trace accumulators over one sample period.
-  int trace_steps_ = 0;
-  double heater_sum_ = 0.0, fan_sum_ = 0.0;
-  double true_sum_ = 0.0;
-  double true_min_ = std::numeric_limits<double>::infinity();
-  double true_max_ = -std::numeric_limits<double>::infinity();
-  double code_sum_ = 0.0;
-  int code_count_ = 0;
-  double reported_c_ = std::numeric_limits<double>::quiet_NaN();
   bool cooling_ = false;  // the tune has ended: waiting for the hotend to cool before M104
   void expect_board_design(const std::string& applied);
   std::vector<std::string> expected_m311_, board_m311_;  // the host's / M503's M311 lines
@@ -105,9 +82,8 @@ class Runner {
 
 Runner::Runner(const RunConfig& config)
     : config_(config),
-      board_(config.board, config.elf_path),
-      plant_(config_.plant, kPlantStepS),
-      adc_(thermistor::kEpcos100k, config.board.thermistor_pullup_ohm, config.noise_lsb, config.seed),
+      rig_(config.board, config.plant, config.elf_path, config.noise_lsb, config.seed),
+      board_(rig_.board()),
       session_(board_) {
   result_.config = config;
   for (const TimedCommand& c : config.gcode)
@@ -115,19 +91,7 @@ Runner::Runner(const RunConfig& config)
   std::stable_sort(timed_.begin(), timed_.end(),
                    [](const TimedCommand& a, const TimedCommand& b) { return *a.at_s < *b.at_s; });
 
-  board_.set_adc_source(config.board.hotend_adc_channel, [this] {
-    const int code = adc_.sample_code(plant_.temperature_c());
-    code_sum_ += code;
-    ++code_count_;
-    return simavr_mv_for_code(code, board_.adc_ref_mv());
-  });
-  // The bed thermistor sits at ambient, so firmware that watches it sees a sane value.
-  const double bed_code = ThermistorAdc(thermistor::kEpcos100k, config.board.thermistor_pullup_ohm, 0.0, 0)
-                              .mean_code(config_.plant.ambient_c);
-  const uint16_t bed_mv = simavr_mv_for_code(silicon_code(bed_code, 0.0), board_.adc_ref_mv());
-  board_.set_adc_source(config.board.bed_adc_channel, [bed_mv] { return bed_mv; });
-
-  board_.every(kPlantStepUs, [this] { on_plant_step(); });
+  rig_.on_step([this](double now_s, double true_c) { on_plant_step(now_s, true_c); });
   board_.on_reset([this] {
     if (!fault_abs_s_ || reset_after_fault_s_) return;
     reset_after_fault_s_ = board_.time_s();
@@ -136,14 +100,7 @@ Runner::Runner(const RunConfig& config)
   session_.on_line([this](const ReplyLine& line) { on_line(line); });
 }
 
-void Runner::on_plant_step() {
-  const uint64_t now_cycle = board_.cycle();
-  const double now = board_.time_s();
-  const double heater = board_.heater().take_duty(now_cycle);
-  const double fan = board_.fan().take_duty(now_cycle);
-  plant_.step(PlantInput{heater, fan});
-
-  const double true_c = plant_.temperature_c();
+void Runner::on_plant_step(double now, double true_c) {
   if (result_.tune && !result_.tune->end_s) result_.tune->max_true_c = std::max(result_.tune->max_true_c, true_c);
   if (cooling_) {
     const double ambient = config_.plant.ambient_c;
@@ -152,16 +109,6 @@ void Runner::on_plant_step() {
       send_heat_up();
     }
   }
-  recent_true_.emplace_back(now, true_c);
-  while (recent_true_.front().first < now - kReportLatencyS) recent_true_.pop_front();
-
-  heater_sum_ += heater;
-  fan_sum_ += fan;
-  true_sum_ += true_c;
-  true_min_ = std::min(true_min_, true_c);
-  true_max_ = std::max(true_max_, true_c);
-  if (++trace_steps_ == kStepsPerTraceSample) record_trace(now);
-
   send_due_commands(now);
   session_.poll();
 }
@@ -190,11 +137,7 @@ void Runner::send_due_commands(double now_s) {
 
 void Runner::inject_fault(double now_s) {
   fault_abs_s_ = now_s;
-  if (config_.fault == FaultKind::kOpen) adc_.set_fault(SensorFault::kOpen);
-  if (config_.fault == FaultKind::kShort) adc_.set_fault(SensorFault::kShorted);
-  if (config_.fault == FaultKind::kHang) session_.send("D0");
-  if (config_.fault == FaultKind::kM108) session_.send("M108");
-  if (config_.fault == FaultKind::kM112) session_.send("M112");
+  sim::inject_fault(config_.fault, rig_.sensor(), [this](const std::string& line) { session_.send(line); });
 }
 
 void Runner::on_line(const ReplyLine& line) {
@@ -212,7 +155,7 @@ void Runner::on_line(const ReplyLine& line) {
   // A set-up command this image does not know (e.g. a controller it was built without).
   if (line.text.rfind("echo:Unknown command", 0) == 0) result_.problems.push_back("firmware: " + line.text);
   if (auto report = parse_temp_report(line.text)) {
-    reported_c_ = report->temp_c;
+    rig_.set_reported(report->temp_c);
     if (before_fault(line.t_s)) check_report(*report);
   }
 }
@@ -231,7 +174,7 @@ void Runner::start_setup() {
                 [this](double t_ok) {
                   result_.tune = TuneOutcome();
                   result_.tune->start_s = t_ok;
-                  target_sent_c_ = config_.target_c;
+                  rig_.set_target(config_.target_c);
                 });
 }
 
@@ -263,7 +206,7 @@ void Runner::on_tune_line(const std::string& text, double t_s) {
   if (starts("echo:Autotune applied") || starts("echo:Autotune not applied") || starts("PID Autotune failed!") ||
       (tune.end_s && starts("Error:"))) {
     cooling_ = true;
-    target_sent_c_ = 0.0;  // the firmware switched the heater off
+    rig_.set_target(0.0);  // the firmware switched the heater off
     for (const std::string& command : config_.autotune->after) session_.send(command);
   }
 }
@@ -291,40 +234,16 @@ void Runner::expect_board_design(const std::string& applied) {
 void Runner::send_heat_up() {
   session_.send(format_target(config_.target_c), [this](double t_ok) {
     result_.heating_start_s = t_ok;
-    target_sent_c_ = config_.target_c;
+    rig_.set_target(config_.target_c);
     next_m105_s_ = t_ok + kM105PeriodS;
   });
 }
 
 void Runner::check_report(const TempReport& report) {
-  double lo = recent_true_.front().second, hi = lo;
-  for (const auto& sample : recent_true_) {
-    lo = std::min(lo, sample.second);
-    hi = std::max(hi, sample.second);
-  }
-  const double error = std::max({0.0, lo - report.temp_c, report.temp_c - hi});
+  const double error = rig_.report_error_c(report);
   ++result_.report_count;
   if (report.power < 0 || report.power > 255) ++result_.report_power_bad;
   result_.report_error_max_c = std::max(result_.report_error_max_c, error);
-}
-
-void Runner::record_trace(double now_s) {
-  TraceSample s;
-  s.t_s = now_s;
-  s.true_c = true_sum_ / trace_steps_;
-  s.true_ripple_c = true_max_ - true_min_;
-  s.sensor_c = code_count_ ? adc_.temperature_for_code(code_sum_ / code_count_)
-                           : std::numeric_limits<double>::quiet_NaN();
-  s.reported_c = reported_c_;
-  s.target_c = target_sent_c_;
-  s.heater_duty = heater_sum_ / trace_steps_;
-  s.fan_duty = fan_sum_ / trace_steps_;
-  result_.trace.push_back(s);
-  trace_steps_ = 0;
-  heater_sum_ = fan_sum_ = code_sum_ = true_sum_ = 0.0;
-  true_min_ = std::numeric_limits<double>::infinity();
-  true_max_ = -std::numeric_limits<double>::infinity();
-  code_count_ = 0;
 }
 
 RunResult Runner::run() {
@@ -370,6 +289,7 @@ void Runner::finish() {
     result_.simavr_messages.push_back("(" + std::to_string(board_.simavr_messages_dropped()) + " more)\n");
   for (const std::string& p : session_.problems()) result_.problems.push_back(p);
   result_.transcript = session_.transcript();
+  result_.trace = rig_.trace();
   result_.bound = physical_bound(config_.plant, config_.target_c);
   if (config_.fault_in_tune) return evaluate_fault_outcome();
   if (!result_.heating_start_s) return;

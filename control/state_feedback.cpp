@@ -197,9 +197,10 @@ void StateFeedback::law_update(const StepInput& in) {
 }
 
 // x̂[k+1] from x̂[k] and the applied duty: every row reads the old vector, so all deltas are
-// formed before any state changes. No clamping needed here: the law call leaves |x| <= 2^27 and
-// every row's coefficients are below 2 in magnitude, so |delta| < 2^29 and the next law call's
-// measurement update clamps again before anything multiplies x.
+// formed before any state changes. The law call leaves |x| <= 2^27 and state_feedback_row_fits
+// bounds each row's coefficients by 8, so |delta| <= 2^30 + 2^17 and x + delta fits int32; the
+// clamp keeps the next law call's sum of states in int32 (derivation in
+// state_feedback_constants.h).
 void StateFeedback::time_update() {
   const uint8_t n = k_.n;
   const uint8_t p = k_.input_shift;
@@ -223,7 +224,7 @@ void StateFeedback::time_update() {
       delta[i] = static_cast<int32_t>(v);
     }
   }
-  for (uint8_t i = 0; i < n; ++i) x_q16_[i] += delta[i];
+  for (uint8_t i = 0; i < n; ++i) x_q16_[i] = clamp_abs(x_q16_[i] + delta[i], kSignalLimit);
 }
 
 // Taps j = 16c+1 .. 16c+16 (<= D) of Σ h_j·u[k+1−j] for the next law update; u[k] is at head_.

@@ -74,14 +74,52 @@ struct StateFeedbackConstants {
   uint8_t inv_gain_shift;
 };
 
-// Range checks the runtime relies on (shifts within what the arithmetic supports, sizes).
+// The model's zero (ambient_q8), as M311 accepts it: −100..300 °C.
+constexpr int32_t kSfMinAmbientQ8 = -100L * 256;
+constexpr int32_t kSfMaxAmbientQ8 = 300L * 256;
+
+// Magnitude limits that keep every intermediate of control/state_feedback.cpp in int32, for any
+// StepInput with |measured_q8|, |target_q8| <= 2^30 (readings are table-bounded, targets
+// <= 275 °C) and any int16 mantissa. Derivation, with X = 2^27 (kSignalLimit, ±2048 °C Q16):
+//  - measured/target − ambient: |ambient_q8| <= 300 °C·256 < 2^17, so the difference < 2^31;
+//    to_q16 clamps it to ±X.
+//  - mulhi16(m, x) = round(m·x/2^16): |m| <= 2^15 and |x| < 2^31 give |result| < 2^30. Every
+//    signal a product sees is clamped to ±X (x̂ after either update, e, r, v_a, v_b, y) or
+//    smaller (d̂ <= 2^26, duty Q15 · 2^(p+1) <= 2^26 with p <= 10; x̂ after prime() <= 2^28), so
+//    each product is <= 2^26 + 1/2. The law's row (<= 7 products) < 2^29; scale() saturates at
+//    ±2^28; Σ of 5 states + y < 5·2^28 + X; the predictor's 32 taps (int16·int16 >> 8) < 2^27;
+//    the fan term (y>>8)·255 < 2^27. None of these depends on the constants.
+//  - The one place a constant can overflow the law is the observer's time update: row i sums
+//    acc = Σ mulhi16(m_k, s_k) over Φ−I diag/off and Γa/Γb (4 terms, |s_k| <= X), so
+//    |acc| <= S_i·2^11 + 2 with S_i = Σ|m_k| <= 2^17, and delta = acc·2^−(phi_shift−16) (floor
+//    shift with a residual < 2^24, or an exact left shift for phi_shift < 16); x̂ + delta is
+//    then clamped to ±X. x̂ + delta fits int32 if |delta| <= 2^31 − 1 − X, which holds for
+//    S_i <= 2^(phi_shift+3), i.e. the row's coefficients |Φ−I| + |Γa| + |Γb| sum to at most 8:
+//      phi_shift <= 16: |delta| <= (2^(phi_shift+14) + 2)·2^(16−phi_shift) <= 2^30 + 2^17;
+//      phi_shift >= 17: |delta| <= (2^(phi_shift+14) + 2)/2^(phi_shift−16) + 1 <= 2^30 + 2.
+//    With phi_shift >= 14 every row passes (S_i <= 2^17). A discretised stable hotend model
+//    has |Φ−I| < 1 and Γ ≈ gain·(1 − λ)/2^p < 2 (2^p within a factor 2 of the gain): M303's
+//    designs reach 2.95 at the corners of M307's ranges (long decimated law periods).
+// host_tests/ubsan_state_feedback_limits.cpp runs the law at these limits against a 64-bit
+// reference under UBSan.
+inline bool state_feedback_row_fits(const StateFeedbackConstants& k, uint8_t i) {
+  const uint8_t shift = k.phi_shift[i];
+  if (shift >= 14) return true;
+  auto mag = [](int16_t m) { return static_cast<uint32_t>(m < 0 ? -static_cast<int32_t>(m) : m); };
+  const uint32_t sum = mag(k.phi_diag[i]) + mag(k.phi_off[i]) + mag(k.gamma_a[i]) + mag(k.gamma_b[i]);
+  return sum <= (1UL << (shift + 3));
+}
+
+// Range checks the runtime relies on (shifts within what the arithmetic supports, sizes, the
+// magnitude limits above). M311 W1, M303 U1 and the EEPROM loader all go through it.
 inline bool state_feedback_constants_valid(const StateFeedbackConstants& k) {
   if (k.n < 1 || k.n > kSfMaxStates || k.delay > kSfMaxDelay) return false;
+  if (k.ambient_q8 < kSfMinAmbientQ8 || k.ambient_q8 > kSfMaxAmbientQ8) return false;
   if (k.decimation < state_feedback_min_decimation(k.delay)) return false;
   if (k.input_shift > 10 || k.output_mask == 0) return false;
   if (k.output_mask >> k.n) return false;
   for (uint8_t i = 0; i < k.n; ++i)  // <= 40: the carried residual stays below 2^24
-    if (k.phi_shift[i] > 40 || k.phi_col[i] >= k.n) return false;
+    if (k.phi_shift[i] > 40 || k.phi_col[i] >= k.n || !state_feedback_row_fits(k, i)) return false;
   for (uint8_t i = 0; i <= k.n; ++i)
     if (k.obs_shift[i] > 46) return false;
   return k.ctrl_shift <= 46 && k.fir_shift <= 46 && k.fan_shift <= 46 && k.ss_share_shift <= 46 &&

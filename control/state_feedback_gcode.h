@@ -69,8 +69,8 @@ inline SfField sf_field(StateFeedbackConstants& k, uint8_t index) {
 
 // The values M311 accepts for a field of this type (ambient_q8: −100..300 °C).
 inline void sf_field_range(SfFieldType type, int32_t* lo, int32_t* hi) {
-  *lo = type == SfFieldType::kU8 ? 0 : (type == SfFieldType::kI16 ? -32768 : -100L * 256);
-  *hi = type == SfFieldType::kU8 ? 255 : (type == SfFieldType::kI16 ? 32767 : 300L * 256);
+  *lo = type == SfFieldType::kU8 ? 0 : (type == SfFieldType::kI16 ? -32768 : kSfMinAmbientQ8);
+  *hi = type == SfFieldType::kU8 ? 255 : (type == SfFieldType::kI16 ? 32767 : kSfMaxAmbientQ8);
 }
 
 // Read-only use of the same walk (the address is only read through).

@@ -39,6 +39,9 @@ const gcode::FlashText* ControllerBank::refusal(const Settings& next, bool sf_av
   if (next.controller >= kControllerCount || next.feedforward > 1) return GCODE_TEXT("M310 S or F out of range");
   if (next.controller == static_cast<uint8_t>(ControllerId::kStateFeedback) && !sf_available)
     return GCODE_TEXT("M310 S1 needs state-feedback constants (M311 ... W1)");
+  // The G-code commands check their own fields with the same limits first (and say which);
+  // this catches what comes from EEPROM (e.g. M312 E0.025).
+  if (!settings_fields_in_range(next)) return GCODE_TEXT("a setting is outside the range its G-code accepts");
   return nullptr;
 }
 

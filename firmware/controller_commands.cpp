@@ -5,14 +5,6 @@
 namespace firmware {
 namespace {
 
-// M312 E/C limits, Q12, chosen so the Error line prints them exactly: the e factor at least
-// 0.03 /°C (FuzzyPid needs ≥ 0.024); the ec factor's per-period gain (× 1000/128) must fit
-// 16 bits: ≤ 2.04 s/°C.
-constexpr int32_t kMinEFactorQ12 = 123;     // 0.03 (prints as the bound it is)
-constexpr int32_t kMaxEFactorQ12 = 65495;   // 15.99
-constexpr int32_t kMinEcFactorQ12 = 41;     // 0.01
-constexpr int32_t kMaxEcFactorQ12 = 8356;   // 2.04
-
 void write_refusal(gcode::Output& out, const gcode::FlashText* reason) {
   if (reason != nullptr) out.error_line(reason);
 }
@@ -94,8 +86,10 @@ void ControllerCommands::upload(const gcode::Command& cmd, gcode::Output& out, c
   if (*cmd.params == '\0') return write_upload(out, GCODE_TEXT("echo:"));
   int32_t commit = 0;
   if (!cmd.integer('W', 1, 1, &commit, out)) return;
-  if (has_any(cmd, 'A', 'H')) {
-    int32_t first = 0;
+  int32_t previous[control::kSfFieldsPerLine];  // this line's fields before it: a refusal restores them
+  int32_t first = 0;
+  const bool writes = has_any(cmd, 'A', 'H');
+  if (writes) {
     if (!cmd.require('I', out) || !cmd.integer('I', 0, control::kSfFieldCount - 1, &first, out)) return;
     int32_t values[control::kSfFieldsPerLine];
     for (uint8_t j = 0; j < control::kSfFieldsPerLine; ++j) {  // check the whole line first...
@@ -114,11 +108,19 @@ void ControllerCommands::upload(const gcode::Command& cmd, gcode::Output& out, c
       if (!cmd.integer(letter, lo, hi, &values[j], out)) return;
     }
     for (uint8_t j = 0; j < control::kSfFieldsPerLine; ++j) {  // ...then write it
-      if (cmd.has(static_cast<char>('A' + j))) control::sf_set(control::sf_field(staging_, static_cast<uint8_t>(first + j)), values[j]);
+      if (!cmd.has(static_cast<char>('A' + j))) continue;
+      const control::SfField field = control::sf_field(staging_, static_cast<uint8_t>(first + j));
+      previous[j] = control::sf_get(field);
+      control::sf_set(field, values[j]);
     }
   }
   if (commit == 1 && !bank_.load_state_feedback(staging_, now)) {
-    out.error_line(GCODE_TEXT("M311 W1: constants invalid, nothing applied"));
+    // A refused command changes nothing: a later W1 must not commit this line's fields.
+    for (uint8_t j = 0; writes && j < control::kSfFieldsPerLine; ++j) {
+      if (cmd.has(static_cast<char>('A' + j)))
+        control::sf_set(control::sf_field(staging_, static_cast<uint8_t>(first + j)), previous[j]);
+    }
+    out.error_line(GCODE_TEXT("M311 W1: constants invalid (ranges, or a product beyond 32 bits), nothing applied"));
   }
 }
 
@@ -127,7 +129,7 @@ void ControllerCommands::fuzzy(const gcode::Command& cmd, gcode::Output& out, co
   int32_t spread = next.fuzzy_spread_pct;
   int32_t e_q12 = next.fuzzy_e_factor_q12;
   int32_t ec_q12 = next.fuzzy_ec_factor_q12;
-  if (!cmd.integer('S', 0, 100, &spread, out) || !cmd.fixed('E', 12, kMinEFactorQ12, kMaxEFactorQ12, &e_q12, out) ||
+  if (!cmd.integer('S', 0, kMaxFuzzySpreadPct, &spread, out) || !cmd.fixed('E', 12, kMinEFactorQ12, kMaxEFactorQ12, &e_q12, out) ||
       !cmd.fixed('C', 12, kMinEcFactorQ12, kMaxEcFactorQ12, &ec_q12, out)) {
     return;
   }

@@ -25,6 +25,13 @@ Settings default_settings() {
   return s;
 }
 
+bool settings_fields_in_range(const Settings& s) {
+  return s.pid.kp_q16 >= 0 && s.pid.ki_q16 >= 0 && s.pid.kd_q16 >= 0 && control::hotend_model_valid(s.model) &&
+         s.controller < kControllerCount && s.feedforward <= 1 && s.fuzzy_spread_pct <= kMaxFuzzySpreadPct &&
+         s.fuzzy_e_factor_q12 >= kMinEFactorQ12 && s.fuzzy_e_factor_q12 <= kMaxEFactorQ12 &&
+         s.fuzzy_ec_factor_q12 >= kMinEcFactorQ12 && s.fuzzy_ec_factor_q12 <= kMaxEcFactorQ12;
+}
+
 control::FuzzyPidConfig fuzzy_config(const Settings& s) {
   control::FuzzyPidConfig c = control::fuzzy_config_around(s.pid, s.fuzzy_spread_pct);
   c.e_factor_q12 = s.fuzzy_e_factor_q12;

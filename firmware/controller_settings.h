@@ -34,6 +34,21 @@ struct Settings {
 
 Settings default_settings();
 
+// M312's limits, Q12, chosen so the Error line prints them exactly: the e factor at least 0.03
+// /°C (FuzzyPid needs ≥ 0.024); the ec factor's per-period gain (× 1000/128) must fit 16 bits:
+// ≤ 2.04 s/°C. The schedule spans M301 × (1 ∓ spread) with spread ≤ 100 %.
+constexpr uint8_t kMaxFuzzySpreadPct = 100;
+constexpr int32_t kMinEFactorQ12 = 123;     // 0.03 (prints as the bound it is)
+constexpr int32_t kMaxEFactorQ12 = 65495;   // 15.99
+constexpr int32_t kMinEcFactorQ12 = 41;     // 0.01
+constexpr int32_t kMaxEcFactorQ12 = 8356;   // 2.04
+
+// The per-field ranges every way settings come in shares (M301/M307/M310/M312 through the
+// controller bank, M501 and boot from EEPROM): true if each field is within what its G-code
+// accepts. The combined checks (gains the fixed-point PID and the fuzzy schedule can hold, S1
+// needing constants) are the bank's (ControllerBank::apply).
+bool settings_fields_in_range(const Settings& s);
+
 // The fuzzy-PID configuration these settings describe (fuzzy_config_around M301).
 control::FuzzyPidConfig fuzzy_config(const Settings& s);
 

@@ -114,7 +114,9 @@ void Interpreter::fan_off(const Command&) { machine_.set_fan_duty(0); }
 
 void Interpreter::cancel_wait(const Command&) {
   machine_.cancel_heating();     // an M303 in progress ends, heater off
-  if (waiting()) finish_wait();  // the M109's "ok"; execute() then answers the M108
+  // The M109's "ok"; execute() then answers the M108. A machine command (M500) is not
+  // cancelled: it finishes on its own, well within a second.
+  if (waiting() && wait_ != Wait::kMachine) finish_wait();
 }
 
 void Interpreter::set_line_number(const Command& cmd) {

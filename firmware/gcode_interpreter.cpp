@@ -142,7 +142,8 @@ void Interpreter::execute(const Command& cmd) {
   } else if (!machine_.handle_command(cmd, out_)) {
     echo_unknown(cmd.typed);
   }
-  if (ok_sent_ || (waiting() && !was_waiting)) return;  // M105; M109: finish_wait() sends it
+  if (!was_waiting && machine_.command_pending()) wait_ = Wait::kMachine;  // M500: ok when written
+  if (ok_sent_ || (waiting() && !was_waiting)) return;  // M105; M109/M500: finish_wait() sends it
   out_.print(GCODE_TEXT("ok\n"));
 }
 
@@ -174,6 +175,10 @@ void Interpreter::poll(uint32_t now_ms) {
   now_ms_ = now_ms;
   machine_.background(out_);
   const uint32_t since_report_ms = now_ms - last_report_ms_;  // unsigned: wrap-safe
+  if (wait_ == Wait::kMachine) {
+    if (!machine_.command_pending()) finish_wait();
+    return;
+  }
   if (waiting()) {
     const HeaterStatus status = machine_.heater_status();
     const int32_t error_q8 = status.temp_q8 - status.target_q8;

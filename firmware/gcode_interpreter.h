@@ -29,7 +29,9 @@ class Interpreter {
   bool waiting() const { return wait_ != Wait::kNone; }
 
  private:
-  enum class Wait : uint8_t { kNone, kHeating, kReach };  // M109 S (heat only) / M109 R (either way)
+  // M109 S (heat only) / M109 R (either way) / a command the machine is still carrying out
+  // (Machine::command_pending, e.g. M500 writing EEPROM).
+  enum class Wait : uint8_t { kNone, kHeating, kReach, kMachine };
 
   using Handler = void (Interpreter::*)(const Command&);
 

@@ -41,7 +41,8 @@ class Machine {
   virtual void emergency_stop() = 0;             // M112: heater off, latched until M999
   virtual const FlashText* clear_fault() = 0;    // M999: refuse while the fault condition persists
 
-  virtual const FlashText* save_settings() = 0;  // M500 (EEPROM)
+  // M500 (EEPROM). It may only start the write: command_pending() then holds the "ok".
+  virtual const FlashText* save_settings() = 0;
   virtual const FlashText* load_settings() = 0;  // M501 (refuse if the EEPROM copy is invalid)
   virtual void reset_settings() = 0;             // M502: built-in defaults, not saved
 
@@ -60,6 +61,10 @@ class Machine {
   virtual void background(Output&) {}
   // M108 (Marlin's break-and-continue): end a heating job such as M303, heater off.
   virtual void cancel_heating() {}
+  // True while the last command's work goes on in background() (M500 streaming to EEPROM):
+  // the layer defers that command's "ok" until it turns false and holds further lines, so no
+  // command ever runs beside an unfinished one.
+  virtual bool command_pending() { return false; }
 
  protected:
   ~Machine() = default;  // never deleted through this interface (no heap in the firmware)

@@ -20,9 +20,9 @@ void Interpreter::firmware_info(const Command&) {
 }
 
 void Interpreter::save_settings(const Command&) {
+  // The machine reports "Settings stored" when the write has ended (command_pending()).
   const FlashText* refusal = machine_.save_settings();
   if (refusal != nullptr) return out_.error_line(refusal);
-  out_.print(GCODE_TEXT("echo:Settings stored\n"));
 }
 
 void Interpreter::load_settings(const Command&) {
@@ -37,7 +37,12 @@ void Interpreter::reset_settings(const Command&) {
 }
 
 void Interpreter::report_settings(const Command&) {
-  // M503: the settings as the commands that would set them, then the machine's own lines.
+  // M503: the settings as the commands that would set them, in an order in which replaying
+  // them is accepted line by line: the machine's lines (M307, M312, M311, M310) before M301.
+  // M301's gains are checked with the fuzzy spread (M312 S) in force, so M312 must come first:
+  // after M502 the default gains hold any spread (0..100 %), while gains stored with a small
+  // spread may not hold the default 50 %.
+  machine_.report_settings(out_);
   const PidGainsQ16 gains = machine_.pid_gains();
   out_.print(GCODE_TEXT("echo:; Hotend PID (Marlin units):\necho:  M301 P"));
   out_.write_q16(gains.kp_q16);
@@ -46,7 +51,6 @@ void Interpreter::report_settings(const Command&) {
   out_.print(GCODE_TEXT(" D"));
   out_.write_q16(gains.kd_q16);
   out_.end_line();
-  machine_.report_settings(out_);
 }
 
 }  // namespace gcode

@@ -21,9 +21,17 @@ HandOver HotendMachine::hand_over() const {
 const gcode::FlashText* HotendMachine::load_stored() {
   SettingsBlock block;  // scratch (~210 bytes of stack, only here)
   if (!firmware::load_settings(block)) return GCODE_TEXT("EEPROM invalid (blank or corrupt), settings unchanged");
+  // The same checks as the G-code commands (ControllerBank::apply), so a block can hold nothing
+  // M301/M307/M310/M311/M312 would refuse.
   const gcode::FlashText* refusal =
-      bank_.replace_all(block.settings, block.sf_loaded == 1 ? &block.sf : nullptr, hand_over());
-  if (refusal != nullptr) return GCODE_TEXT("EEPROM settings unusable by this firmware, settings unchanged");
+      block.sf_loaded > 1 ? GCODE_TEXT("state-feedback flag invalid")
+                          : bank_.replace_all(block.settings, block.sf_loaded == 1 ? &block.sf : nullptr, hand_over());
+  if (refusal != nullptr) {
+    out_.print(GCODE_TEXT("echo:EEPROM settings refused: "));
+    out_.print(refusal);
+    out_.end_line();
+    return GCODE_TEXT("EEPROM settings unusable by this firmware, settings unchanged");
+  }
   commands_.sync_staging();
   return nullptr;
 }
@@ -33,7 +41,7 @@ void HotendMachine::load_settings_at_boot() {
   if (load_stored() == nullptr) {
     out_.write_flash(GCODE_TEXT("echo:Settings loaded from EEPROM\n"));
   } else {
-    out_.write_flash(GCODE_TEXT("echo:EEPROM invalid (blank or corrupt), defaults loaded\n"));
+    out_.write_flash(GCODE_TEXT("echo:EEPROM invalid (blank, corrupt or refused), defaults loaded\n"));
   }
 }
 
@@ -66,6 +74,15 @@ bool HotendMachine::handle_command(const gcode::Command& cmd, gcode::Output& out
 }
 
 void HotendMachine::background(gcode::Output& out) {
+  if (writer_.writing()) {
+    const SettingsWriter::Status status = writer_.step();
+    if (status == SettingsWriter::Status::kFailed) out.error_line(GCODE_TEXT("EEPROM write failed (read back invalid)"));
+    if (status == SettingsWriter::Status::kDone) {
+      out.print(GCODE_TEXT("echo:Settings stored ("));
+      out.write_uint(writer_.bytes_written());
+      out.print(GCODE_TEXT(" bytes written)\n"));
+    }
+  }
   if (!tune_.busy()) return;
   // The tune has ended once report() says so: the heater is off, the controllers take over
   // only from the next target (HandOver: not heating).
@@ -123,8 +140,11 @@ const gcode::FlashText* HotendMachine::clear_fault() {
   return nullptr;
 }
 
+// Starts the write; background() streams it and the G-code layer holds the "ok" until it has
+// ended. The bank's objects are written as they are: M303 could change them mid-way.
 const gcode::FlashText* HotendMachine::save_settings() {
-  firmware::save_settings(bank_.settings(), bank_.state_feedback_loaded(), bank_.state_feedback_constants());
+  if (tune_.busy()) return busy_tuning();
+  writer_.begin(bank_.settings(), bank_.state_feedback_loaded(), bank_.state_feedback_constants());
   return nullptr;
 }
 

@@ -12,6 +12,7 @@
 #include "firmware/gcode_machine.h"
 #include "firmware/heater_manager.h"
 #include "firmware/settings.h"
+#include "firmware/settings_writer.h"
 
 namespace firmware {
 
@@ -45,6 +46,7 @@ class HotendMachine final : public gcode::Machine {
   void report_settings(gcode::Output& out) override { commands_.report(out); }
   void background(gcode::Output& out) override;
   void cancel_heating() override { tune_.stop(AutotuneJob::Stop::kUser); }
+  bool command_pending() override { return writer_.writing(); }
 
  private:
   HandOver hand_over() const;
@@ -57,6 +59,7 @@ class HotendMachine final : public gcode::Machine {
   AutotuneJob& tune_;     // M303
   ControllerCommands commands_;
   gcode::Output& out_;
+  SettingsWriter writer_;  // M500 in progress
 };
 
 }  // namespace firmware

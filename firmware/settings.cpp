@@ -3,30 +3,72 @@
 #include "hal/eeprom.h"
 
 namespace firmware {
+namespace settings_layout {
 namespace {
 
 constexpr uint16_t kMagic = 0x4854;  // "HT" (hotend)
-// Bump when SettingsBlock changes: old blocks then read invalid. 2: issue 3 (model, controller
-// choice, fuzzy configuration, state-feedback constants).
-constexpr uint8_t kLayoutVersion = 2;
-constexpr uint16_t kEepromAddress = 0;
+// Bump when SettingsBlock changes meaning: old blocks then read invalid. 2: issue 3 (model,
+// controller choice, fuzzy configuration, state-feedback constants); 3: two slots (issue 8).
+constexpr uint8_t kLayoutVersion = 3;
+constexpr uint16_t kBlockSize = kCrcOffset - kSettingsOffset;  // catches a forgotten version bump
 
-struct Header {
-  uint16_t magic;
-  uint8_t version;
-  uint8_t size;  // sizeof(SettingsBlock): catches a layout change that forgot the version bump
-};
-static_assert(sizeof(SettingsBlock) < 256, "size field is one byte");
-
-constexpr uint16_t kBlockAddress = kEepromAddress + sizeof(Header);
-constexpr uint16_t kCrcAddress = kBlockAddress + sizeof(SettingsBlock);
-// The block's parts in EEPROM order (AVR structs have no padding, so offsets are the sums).
-constexpr uint16_t kSettingsAddress = kBlockAddress;
-constexpr uint16_t kFlagAddress = kSettingsAddress + sizeof(Settings);
-constexpr uint16_t kSfAddress = kFlagAddress + 1;
-static_assert(kSfAddress + sizeof(control::StateFeedbackConstants) == kCrcAddress, "SettingsBlock has padding");
+// Reads `size` bytes at `address` into `out` (if any), folding them into *crc.
+void read_into(uint16_t address, void* out, uint16_t size, uint16_t* crc) {
+  uint8_t* bytes = static_cast<uint8_t*>(out);
+  for (uint16_t i = 0; i < size; ++i) {
+    const uint8_t b = hal::eeprom::read_byte(static_cast<uint16_t>(address + i));
+    *crc = crc16_ccitt(*crc, &b, 1);
+    if (bytes != nullptr) bytes[i] = b;
+  }
+}
 
 }  // namespace
+
+uint8_t header_byte(uint8_t index) {
+  switch (index) {
+    case 0: return static_cast<uint8_t>(kMagic & 0xFF);
+    case 1: return static_cast<uint8_t>(kMagic >> 8);
+    case 2: return kLayoutVersion;
+    case 3: return static_cast<uint8_t>(kBlockSize & 0xFF);
+    default: return static_cast<uint8_t>(kBlockSize >> 8);
+  }
+}
+
+bool read_slot(uint8_t slot, SettingsBlock* out, uint8_t* sequence) {
+  const uint16_t base = slot_address(slot);
+  uint16_t crc = 0xFFFF;
+  uint8_t seq;
+  read_into(base + kSequenceOffset, &seq, 1, &crc);
+  *sequence = seq;
+  if (seq == kNoSequence) return false;
+  for (uint8_t i = 0; i < kHeaderSize; ++i) {
+    uint8_t b;
+    read_into(static_cast<uint16_t>(base + kHeaderOffset + i), &b, 1, &crc);
+    if (b != header_byte(i)) return false;
+  }
+  read_into(base + kSettingsOffset, out != nullptr ? &out->settings : nullptr, sizeof(Settings), &crc);
+  read_into(base + kFlagOffset, out != nullptr ? &out->sf_loaded : nullptr, 1, &crc);
+  read_into(base + kSfOffset, out != nullptr ? &out->sf : nullptr, sizeof(control::StateFeedbackConstants), &crc);
+  uint16_t stored = 0;
+  uint16_t unused = 0;
+  read_into(base + kCrcOffset, &stored, sizeof stored, &unused);
+  return stored == crc;
+}
+
+Scan scan() {
+  Scan s{};
+  s.newest = -1;
+  for (uint8_t slot = 0; slot < kSlotCount; ++slot) {
+    s.valid[slot] = read_slot(slot, nullptr, &s.sequence[slot]);
+    if (!s.valid[slot]) continue;
+    // The other slot is newer only if its sequence follows this one's (a writer always writes
+    // newest + 1 into the older slot).
+    if (s.newest < 0 || s.sequence[slot] == next_sequence(s.sequence[s.newest])) s.newest = static_cast<int8_t>(slot);
+  }
+  return s;
+}
+
+}  // namespace settings_layout
 
 uint16_t crc16_ccitt(uint16_t crc, const void* data, uint16_t size) {
   const uint8_t* bytes = static_cast<const uint8_t*>(data);
@@ -40,27 +82,10 @@ uint16_t crc16_ccitt(uint16_t crc, const void* data, uint16_t size) {
 }
 
 bool load_settings(SettingsBlock& out) {
-  Header header;
-  uint16_t crc;
-  hal::eeprom::read(kEepromAddress, &header, sizeof header);
-  if (header.magic != kMagic || header.version != kLayoutVersion || header.size != sizeof(SettingsBlock)) return false;
-  hal::eeprom::read(kBlockAddress, &out, sizeof out);
-  hal::eeprom::read(kCrcAddress, &crc, sizeof crc);
-  return crc == crc16_ccitt(crc16_ccitt(0xFFFF, &header, sizeof header), &out, sizeof out);
-}
-
-void save_settings(const Settings& settings, bool sf_loaded, const control::StateFeedbackConstants& sf) {
-  const Header header{kMagic, kLayoutVersion, sizeof(SettingsBlock)};
-  const uint8_t flag = sf_loaded ? 1 : 0;
-  uint16_t crc = crc16_ccitt(0xFFFF, &header, sizeof header);
-  crc = crc16_ccitt(crc, &settings, sizeof settings);
-  crc = crc16_ccitt(crc, &flag, 1);
-  crc = crc16_ccitt(crc, &sf, sizeof sf);
-  hal::eeprom::update(kEepromAddress, &header, sizeof header);
-  hal::eeprom::update(kSettingsAddress, &settings, sizeof settings);
-  hal::eeprom::update(kFlagAddress, &flag, 1);
-  hal::eeprom::update(kSfAddress, &sf, sizeof sf);
-  hal::eeprom::update(kCrcAddress, &crc, sizeof crc);
+  const settings_layout::Scan s = settings_layout::scan();
+  if (s.newest < 0) return false;
+  uint8_t sequence;
+  return settings_layout::read_slot(static_cast<uint8_t>(s.newest), &out, &sequence);
 }
 
 }  // namespace firmware

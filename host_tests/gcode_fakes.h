@@ -64,6 +64,7 @@ class FakeMachine final : public gcode::Machine {
     return true;
   }
   void report_settings(gcode::Output& out) override { out.write("echo:  M900 K3\n"); }
+  bool command_pending() override { return pending; }
 
   const gcode::FlashText* record(const char* name) {
     calls.push_back(name);
@@ -75,6 +76,7 @@ class FakeMachine final : public gcode::Machine {
   gcode::PidGainsQ16 gains{22 * 65536 + 13107, 70779, 114 * 65536};  // 22.2, 1.08, 114
   const gcode::FlashText* refusal = nullptr;  // returned by every refusable call when set
   std::vector<std::string> calls;
+  bool pending = false;  // command_pending(): the last command still works in the background
 };
 
 // line + "*<checksum>\n" (checksum = XOR of the bytes before '*', the host convention).

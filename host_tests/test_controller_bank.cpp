@@ -45,6 +45,33 @@ TEST(ControllerBank, StateFeedbackNeedsItsConstants) {
   EXPECT_EQ(bank.active_id(), ControllerId::kStateFeedback);
 }
 
+// Issue 8, defect 6: the EEPROM loader (HotendMachine::load_stored -> replace_all) accepted
+// values G-code refuses, e.g. M312 E0.025. Every field now passes the G-code's own ranges.
+TEST(ControllerBank, SettingsFromEepromPassTheGcodeRanges) {
+  ControllerBank bank(load_cell);
+  start(bank, false);
+  Settings bad = firmware::default_settings();
+  bad.fuzzy_e_factor_q12 = 102;  // 0.025 /°C: FuzzyPid itself would take it, M312 E refuses it
+  EXPECT_FALSE(firmware::settings_fields_in_range(bad));
+  EXPECT_NE(bank.replace_all(bad, nullptr, kCold), nullptr);
+  EXPECT_EQ(bank.settings().fuzzy_e_factor_q12, firmware::default_settings().fuzzy_e_factor_q12);
+  bad = firmware::default_settings();
+  bad.fuzzy_spread_pct = 101;
+  EXPECT_NE(bank.replace_all(bad, nullptr, kCold), nullptr);
+  bad = firmware::default_settings();
+  bad.fuzzy_ec_factor_q12 = firmware::kMaxEcFactorQ12 + 1;
+  EXPECT_NE(bank.replace_all(bad, nullptr, kCold), nullptr);
+  // Overflowing state-feedback constants in the block: refused, nothing loaded.
+  control::StateFeedbackConstants wild = fixtures::hotend40w_constants();
+  wild.gamma_a[0] = 32767;
+  wild.gamma_b[0] = 32767;
+  wild.phi_shift[0] = 12;  // |Γa| + |Γb| = 16
+  Settings sf = with(1, 0);
+  EXPECT_NE(bank.replace_all(sf, &wild, kCold), nullptr);
+  EXPECT_FALSE(bank.state_feedback_loaded());
+  EXPECT_TRUE(firmware::settings_fields_in_range(firmware::default_settings()));
+}
+
 TEST(ControllerBank, RefusedChangesChangeNothing) {
   ControllerBank bank(load_cell);
   start(bank, false);

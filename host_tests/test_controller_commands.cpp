@@ -16,6 +16,9 @@ namespace {
 using controller_test::Rig;
 using firmware::ControllerId;
 
+constexpr const char* kW1Refused =
+    "Error:M311 W1: constants invalid (ranges, or a product beyond 32 bits), nothing applied\nok\n";
+
 std::string upload_of(const control::StateFeedbackConstants& k) {
   std::string text;
   control::write_state_feedback_mcode(k, [&](const char* line) { text += std::string(line) + "\n"; });
@@ -88,8 +91,53 @@ TEST(ControllerCommands, M311RejectsBadLinesWhole) {
   EXPECT_EQ(rig.send("M311 I99 A1\n"), "Error:M311 I must be an integer in 0..98\nok\n");
   EXPECT_EQ(rig.send("M311 W2\n"), "Error:M311 W must be an integer in 1..1\nok\n");
   // Nothing was staged: committing the all-zero staging copy fails its checks (n = 0).
-  EXPECT_EQ(rig.send("M311 W1\n"), "Error:M311 W1: constants invalid, nothing applied\nok\n");
+  EXPECT_EQ(rig.send("M311 W1\n"), std::string(kW1Refused));
   EXPECT_FALSE(rig.machine.bank.state_feedback_loaded());
+}
+
+// Issue 8, defect 4: a refused "M311 ... W1" left its fields staged, and a later W1 committed
+// them. Here the refused line sets a valid ambient together with n = 0; the later W1 must
+// commit the loaded constants as they were.
+TEST(ControllerCommands, RefusedM311W1LeavesNothingStaged) {
+  Rig rig;
+  const control::StateFeedbackConstants k = fixtures::hotend40w_constants();
+  rig.send(upload_of(k));
+  ASSERT_TRUE(rig.machine.bank.state_feedback_loaded());
+  EXPECT_EQ(rig.send("M311 I0 A0 F7680 W1\n"), std::string(kW1Refused));  // n = 0, ambient 30 °C
+  EXPECT_EQ(rig.send("M311 W1\n"), "ok\n");
+  EXPECT_EQ(rig.machine.bank.state_feedback_constants().ambient_q8, k.ambient_q8);
+  EXPECT_EQ(rig.machine.bank.state_feedback_constants().n, k.n);
+}
+
+// Issue 8, defect 3: constants whose observer time update overflows int32 (row coefficients
+// |Φ−I| + |Γ| above 8) were accepted and, on the AVR, heated to MAXTEMP. Now W1 refuses
+// them and the loaded constants stay.
+TEST(ControllerCommands, M311W1RefusesConstantsThatOverflowTheLaw) {
+  Rig rig;
+  const control::StateFeedbackConstants k = fixtures::hotend40w_constants();
+  rig.send(upload_of(k));
+  control::StateFeedbackConstants wild = k;
+  wild.phi_diag[0] = 32767;
+  wild.phi_shift[0] = 11;  // Φ−I = 16: x̂ + delta passes 2^31
+  EXPECT_FALSE(control::state_feedback_constants_valid(wild));
+  std::string upload = upload_of(wild);
+  std::string replies = rig.send(upload);
+  EXPECT_NE(replies.find("Error:M311 W1: constants invalid"), std::string::npos) << replies;
+  EXPECT_EQ(rig.machine.bank.state_feedback_constants().phi_diag[0], k.phi_diag[0]);
+  wild.phi_shift[0] = 16;  // Φ−I = 0.5 with the same mantissa: accepted (the law runs)
+  EXPECT_TRUE(control::state_feedback_constants_valid(wild));
+  EXPECT_EQ(rig.send(upload_of(wild)).find("Error"), std::string::npos);
+}
+
+// The ambient M311 accepts is what W1 and the EEPROM loader accept.
+TEST(ControllerCommands, AmbientLimitsAreTheUploadLimits) {
+  control::StateFeedbackConstants k = fixtures::hotend40w_constants();
+  k.ambient_q8 = control::kSfMaxAmbientQ8;
+  EXPECT_TRUE(control::state_feedback_constants_valid(k));
+  k.ambient_q8 = control::kSfMaxAmbientQ8 + 1;
+  EXPECT_FALSE(control::state_feedback_constants_valid(k));
+  k.ambient_q8 = control::kSfMinAmbientQ8 - 1;
+  EXPECT_FALSE(control::state_feedback_constants_valid(k));
 }
 
 TEST(ControllerCommands, M312SetsTheFuzzyScheduleAndReportsRoundTrippingFactors) {
@@ -129,12 +177,47 @@ TEST(ControllerCommands, M503LinesRestoreEverySettingOnAFreshFirmware) {
   rig.send(upload_of(fixtures::hotend40w_constants()));
   rig.send("M301 P20 I0.5 D80\nM307 A500 C200 D6 F30\nM312 S40 E0.3 C0.7\nM310 S1 F1\n");
   const std::vector<std::string> lines = settings_lines(rig);
-  ASSERT_EQ(lines.size(), 1u + 1 + 1 + 14 + 1);  // M301, M307, M312, M311 × 13 + W1, M310
-  EXPECT_EQ(lines.back(), "M310 S1 F1 ; state feedback");
+  ASSERT_EQ(lines.size(), 1u + 1 + 14 + 1 + 1);  // M307, M312, M311 × 13 + W1, M310, M301
+  EXPECT_EQ(lines[lines.size() - 2], "M310 S1 F1 ; state feedback");
+  EXPECT_EQ(lines.back().substr(0, 5), "M301 ");
   Rig fresh;
   for (const std::string& line : lines) EXPECT_EQ(fresh.send(line + "\n").substr(0, 5) == "Error", false) << line;
   EXPECT_EQ(settings_lines(fresh), lines);
   EXPECT_EQ(fresh.machine.bank.active_id(), ControllerId::kStateFeedback);
+}
+
+// Issue 8, defect 6: M503 printed M301 before M312, so gains stored with a small fuzzy spread
+// were refused when replayed after M502 (the default 50 % spread). Each line must be accepted
+// and M503 must read the same afterwards.
+TEST(ControllerCommands, M503ReplaysAfterM502) {
+  Rig rig;
+  rig.send(upload_of(fixtures::hotend40w_constants()));
+  EXPECT_EQ(rig.send("M312 S10 E0.3\n"), "ok\n");
+  EXPECT_EQ(rig.send("M301 P900 I2 D150\n"), "echo: p:900.00 i:2.00 d:150.00\nok\n");
+  EXPECT_EQ(rig.send("M307 A500 C200 D6 F30\nM310 S1 F1\n"), "ok\nok\n");
+  const std::vector<std::string> before = settings_lines(rig);
+  EXPECT_EQ(rig.send("M502\n").find("Error"), std::string::npos);
+  EXPECT_FALSE(rig.machine.bank.state_feedback_loaded());
+  for (const std::string& line : before) {
+    const std::string reply = rig.send(line + "\n");
+    EXPECT_EQ(reply.find("Error"), std::string::npos) << line << " -> " << reply;
+  }
+  EXPECT_EQ(settings_lines(rig), before);
+}
+
+// The M312-first order replays after M502 for any stored spread: the default gains hold every
+// spread M312 accepts.
+TEST(ControllerCommands, DefaultGainsHoldEveryFuzzySpread) {
+  for (int spread = 0; spread <= firmware::kMaxFuzzySpreadPct; ++spread) {
+    firmware::Settings s = firmware::default_settings();
+    s.fuzzy_spread_pct = static_cast<uint8_t>(spread);
+    for (int32_t e : {firmware::kMinEFactorQ12, firmware::kMaxEFactorQ12})
+      for (int32_t c : {firmware::kMinEcFactorQ12, firmware::kMaxEcFactorQ12}) {
+        s.fuzzy_e_factor_q12 = static_cast<uint16_t>(e);
+        s.fuzzy_ec_factor_q12 = static_cast<uint16_t>(c);
+        EXPECT_TRUE(control::FuzzyPid::valid(firmware::fuzzy_config(s), firmware::kControlPeriodMs)) << spread;
+      }
+  }
 }
 
 TEST(ControllerCommands, M502ForgetsTheUploadAndFallsBackToTheDefaultController) {

@@ -103,9 +103,36 @@ TEST(GcodeCommands, M115FirmwareInfoAndCapabilities) {
             "ok\n");
 }
 
+// M500 on silicon takes up to ~0.8 s of EEPROM writes: its "ok" comes only once the machine
+// says the write has ended, further lines wait (never two commands at once), M108 does not
+// cut it short, and M112 still acts at once.
+TEST(GcodeCommands, M500OkWaitsForThePendingWrite) {
+  Rig rig;
+  rig.machine.pending = true;
+  EXPECT_EQ(rig.send("M500\n"), "");
+  EXPECT_EQ(rig.send("M105\n"), "");  // held behind the write
+  EXPECT_FALSE(rig.gcode.accepting());
+  EXPECT_EQ(rig.poll(5000), "");  // no temperature lines: not a heating wait
+  EXPECT_EQ(rig.machine.calls, (Calls{"save"}));
+  rig.machine.pending = false;
+  EXPECT_EQ(rig.poll(5100), "ok\nok T:25.00 /0.00 @:0\n");  // M500's ok, then the held M105
+  EXPECT_TRUE(rig.gcode.accepting());
+}
+
+TEST(GcodeCommands, M108AndM112DuringAPendingWrite) {
+  Rig rig;
+  rig.machine.pending = true;
+  EXPECT_EQ(rig.send("M500\n"), "");
+  EXPECT_EQ(rig.send("M108\n"), "ok\n");  // answered, but the write's ok still waits
+  EXPECT_EQ(rig.poll(10), "");
+  EXPECT_EQ(rig.send("M112\n"), "Error:Emergency stop (M112): heater off until M999\nok\n");
+  rig.machine.pending = false;
+  EXPECT_EQ(rig.poll(20), "ok\n");
+}
+
 TEST(GcodeCommands, SettingsCommands) {
   Rig rig;
-  EXPECT_EQ(rig.send("M500\n"), "echo:Settings stored\nok\n");
+  EXPECT_EQ(rig.send("M500\n"), "ok\n");  // the machine prints what it stored
   EXPECT_EQ(rig.send("M501\n"), "echo:Settings loaded\nok\n");
   EXPECT_EQ(rig.send("M502\n"), "echo:Default settings loaded (M500 stores them)\nok\n");
   EXPECT_EQ(rig.machine.calls, (Calls{"save", "load", "reset"}));
@@ -113,11 +140,12 @@ TEST(GcodeCommands, SettingsCommands) {
   EXPECT_EQ(rig.send("M501\n"), "Error:EEPROM contents invalid, settings unchanged\nok\n");
 }
 
-TEST(GcodeCommands, M503ReportsPidThenMachineSettings) {
+// The machine's lines first: M301 is checked against the fuzzy spread M312 sets (replay order).
+TEST(GcodeCommands, M503ReportsMachineSettingsThenPid) {
   Rig rig;
   EXPECT_EQ(rig.send("M503\n"),
-            "echo:; Hotend PID (Marlin units):\necho:  M301 P22.20 I1.08 D114.00\n"
-            "echo:  M900 K3\nok\n");
+            "echo:  M900 K3\n"
+            "echo:; Hotend PID (Marlin units):\necho:  M301 P22.20 I1.08 D114.00\nok\n");
 }
 
 TEST(GcodeCommands, M112AndM999) {

@@ -94,6 +94,7 @@ void AvrBoard::after_reset() {
   heater_.reset(now);
   fan_.reset(now);
   step_open_ = false;
+  reset_eeprom_timing();
   uart_xon_ = false;  // RX is off until the firmware enables it again (which signals XON)
   apply_adc_remap();
   for (auto& p : periodics_) avr_cycle_timer_register(avr_.get(), p->period_cycles, &Periodic::fire, p.get());

@@ -26,10 +26,20 @@ struct StepCycleStats {
   uint64_t count = 0;
   uint64_t max_cycles = 0;
   uint64_t total_cycles = 0;
+  // Largest interval between two successive step starts (nominally one 128 ms period): what
+  // anything that stalls the main loop (an EEPROM write waited for) shows up in.
+  uint64_t max_gap_cycles = 0;
+  uint64_t last_start_cycle = 0;
   double mean_cycles() const { return count ? double(total_cycles) / double(count) : 0.0; }
 };
 
 enum class CpuState { kRunning, kStopped, kCrashed };
+
+// EEPROM writes under --eeprom-timing silicon (AvrBoard::use_silicon_eeprom_timing).
+struct EepromStats {
+  uint64_t writes = 0;              // byte writes started
+  uint64_t ignored_while_busy = 0;  // EEPE/EERE written while a write was in progress
+};
 
 class AvrBoard {
  public:
@@ -72,6 +82,11 @@ class AvrBoard {
 
   const StepCycleStats& step_cycles() const { return step_cycles_; }
 
+  // Models silicon's 3.4 ms EEPROM write (EEPE stays set, accesses meanwhile are ignored);
+  // without it simavr completes every write at once. avr_board_eeprom.cpp.
+  void use_silicon_eeprom_timing();
+  const EepromStats& eeprom_stats() const { return eeprom_stats_; }
+
   // Harness work every `period_us` of simulated time; re-armed after every reset.
   void every(uint32_t period_us, std::function<void()> work);
   // Called right after every CPU reset (watchdog), before the firmware runs again.
@@ -89,6 +104,7 @@ class AvrBoard {
   struct Periodic;
   struct AdcFeed;
   struct UartLine;
+  struct EepromTiming;
 
   void load(const BoardSpec& spec, const std::string& elf_path);
   void attach_uart();
@@ -97,6 +113,7 @@ class AvrBoard {
   void attach_step_marker();
   void apply_adc_remap();
   void after_reset();
+  void reset_eeprom_timing();
 
   void record_message(const std::string& text);
   static AvrBoard* from(avr_t* avr);
@@ -128,6 +145,8 @@ class AvrBoard {
   uint64_t step_start_cycle_ = 0;
   bool step_open_ = false;
   StepCycleStats step_cycles_;
+  std::unique_ptr<EepromTiming> eeprom_timing_;
+  EepromStats eeprom_stats_;
   std::vector<std::string> messages_;
   uint64_t messages_dropped_ = 0;
 };

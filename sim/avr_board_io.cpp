@@ -116,6 +116,10 @@ void AvrBoard::attach_step_marker() {
         auto* self = static_cast<AvrBoard*>(param);
         avr->data[addr] = v;
         if (v != 0) {
+          StepCycleStats& s = self->step_cycles_;
+          if (s.count != 0 && avr->cycle - s.last_start_cycle > s.max_gap_cycles)
+            s.max_gap_cycles = avr->cycle - s.last_start_cycle;
+          s.last_start_cycle = avr->cycle;
           self->step_open_ = true;
           self->step_start_cycle_ = avr->cycle;
         } else if (self->step_open_) {

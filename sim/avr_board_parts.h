@@ -54,4 +54,14 @@ struct AvrBoard::UartLine {
   static avr_cycle_count_t fire(avr_t* avr, avr_cycle_count_t when, void* param);
 };
 
+// --eeprom-timing silicon: simavr's EECR write handler, wrapped (avr_board_eeprom.cpp).
+struct AvrBoard::EepromTiming {
+  AvrBoard* board;
+  avr_io_write_t simavr_write;
+  void* simavr_param;
+  uint64_t busy_until = 0;  // cycle at which the write in progress ends (0: none)
+  static void on_eecr_write(avr_t* avr, avr_io_addr_t addr, uint8_t v, void* param);
+  static avr_cycle_count_t on_write_done(avr_t* avr, avr_cycle_count_t, void* param);
+};
+
 }  // namespace sim

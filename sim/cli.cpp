@@ -34,7 +34,7 @@ const char* const kUsage = R"(usage:
              [--max-recovery-ratio R] [--transcript FILE] [--quiet]
              [--autotune [--tune-cycles N] [--tune-fan 0|1] [--tune-from C] [--max-tune-overshoot C]
              [--max-model-error PCT] [--after-tune "CMD;CMD"]] [--expect-reply TEXT]...
-             [--svg FILE]
+             [--svg FILE] [--eeprom-timing simavr|silicon] [--max-step-gap-ms MS]
   hotend-sim bench [--markdown] [--autotune] [--boards a,b] [--plants x,y] [--controllers a,b]
              [--variant NAME=GCODE]... [--target C] [--fan-step S] [--seconds S] [--jobs N]
              [--noise-lsb SIGMA] [--seed N] [--gains P,I,D | --gains-rule RULE] [--gcode "CMD@T"]
@@ -73,6 +73,9 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the cont
   another controller on the tuned settings); --expect-reply TEXT (repeatable): --check fails
   unless the firmware sent a line containing TEXT. Timed commands and faults may count from M303's ok: "M108@tune+90",
   --fault open@tune+60 (kinds also m108, m112: the host stops the tune).
+  --eeprom-timing silicon: an EEPROM byte write takes 3.4 ms as on the ATmega1284P/2560 (EEPE
+  stays set, accesses meanwhile are ignored; simavr's default completes it at once); the report
+  counts the writes. --max-step-gap-ms: --check fails if two control steps start further apart.
   --svg FILE: temperature and duty against time; with --autotune from M303 on, with the response
   of the model the tune identified (simulated on the same duties) laid over the hotend's.
 bench: every controller × board × plant (or the given ones) in parallel, heating to each
@@ -101,7 +104,7 @@ int run_command(const std::vector<std::string>& args) {
                      "gains-rule", "gcode", "elf", "fault", "transcript", "max-overshoot", "max-steady-error",
                      "max-report-error", "max-steady-p2p", "max-recovery", "max-recovery-ratio",
                      "tune-cycles", "tune-fan", "tune-from", "after-tune", "max-tune-overshoot", "max-model-error",
-                     "svg", "expect-reply"});
+                     "svg", "expect-reply", "eeprom-timing", "max-step-gap-ms"});
   RunConfig c;
   c.board = board_named(o.get("board", "ramps14"));
   c.plant = plant_named(o.get("plant", "hotend40w"));
@@ -113,6 +116,10 @@ int run_command(const std::vector<std::string>& args) {
   c.csv_path = o.get("csv");
   c.elf_path = o.has("elf") ? o.get("elf") : default_elf_path(HOTEND_SIM_FIRMWARE_DIR, c.board);
   apply_common(o, c, o.get("controller"));
+  const std::string eeprom_timing = o.get("eeprom-timing", "simavr");
+  if (eeprom_timing != "simavr" && eeprom_timing != "silicon")
+    throw std::invalid_argument("--eeprom-timing: simavr or silicon");
+  c.silicon_eeprom = eeprom_timing == "silicon";
   if (o.has("autotune")) {
     if (o.has("controller")) throw std::invalid_argument("--autotune sets the controller itself (M303 U1)");
     AutotuneConfig a;
@@ -138,6 +145,7 @@ int run_command(const std::vector<std::string>& args) {
     limits.max_recovery_bound_ratio = parse_number(o.get("max-recovery-ratio"), "--max-recovery-ratio");
   limits.max_tune_overshoot_c = parse_number(o.get("max-tune-overshoot", "5"), "--max-tune-overshoot");
   limits.expected_replies = o.all("expect-reply");
+  if (o.has("max-step-gap-ms")) limits.max_step_gap_ms = parse_number(o.get("max-step-gap-ms"), "--max-step-gap-ms");
   if (o.has("max-model-error"))
     limits.max_model_error = parse_number(o.get("max-model-error"), "--max-model-error") / 100.0;
 

@@ -43,6 +43,11 @@ void print_fault(std::ostream& out, const RunResult& r) {
         << "  heater after it  " << (f.heater_on_after_reset ? "ON at some point" : "off") << "\n";
 }
 
+// Largest interval between control-step starts, ms of simulated time.
+double step_gap_ms(const RunResult& r) {
+  return 1000.0 * double(r.step_cycles.max_gap_cycles) / double(r.config.board.cpu_hz);
+}
+
 }  // namespace
 
 std::string format_fixed(double value, int decimals) {
@@ -108,9 +113,13 @@ void print_report(std::ostream& out, const RunResult& r) {
   out << "T: reports         " << r.report_count << ", max |reported − true| "
       << format_fixed(r.report_error_max_c, 3) << " °C\n"
       << "control step       " << r.step_cycles.count << " steps, max " << r.step_cycles.max_cycles
-      << " cycles, mean " << format_fixed(r.step_cycles.mean_cycles(), 0) << "\n"
+      << " cycles, mean " << format_fixed(r.step_cycles.mean_cycles(), 0) << ", largest gap "
+      << format_fixed(step_gap_ms(r), 1) << " ms\n"
       << "simulated          " << format_fixed(r.end_s, 1) << " s in " << format_fixed(r.wall_s, 2)
       << " s wall (" << format_fixed(r.sim_speed(), 0) << "× real time)\n";
+  if (r.config.silicon_eeprom)
+    out << "EEPROM (silicon)   " << r.eeprom.writes << " byte writes of 3.4 ms, " << r.eeprom.ignored_while_busy
+        << " accesses while busy (ignored)\n";
   if (r.fault) print_fault(out, r);
   for (const std::string& line : r.error_lines) out << "firmware said      " << line << "\n";
   for (const std::string& p : r.problems) out << "problem            " << p << "\n";
@@ -151,6 +160,10 @@ std::vector<std::string> failed_checks(const RunResult& r, const CheckLimits& li
       within("F (fan loss)", r.tune->f, truth.fan_loss_pct, 2.0 * e);
     }
   }
+  if (limits.max_step_gap_ms)
+    require(step_gap_ms(r) <= *limits.max_step_gap_ms, "largest gap between control steps " +
+                                                           format_fixed(step_gap_ms(r), 1) + " ms > " +
+                                                           format_fixed(*limits.max_step_gap_ms, 1));
   for (const std::string& want : limits.expected_replies) {
     bool seen = false;
     for (const ReplyLine& line : r.transcript)

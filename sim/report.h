@@ -32,6 +32,8 @@ struct CheckLimits {
   // Replies the firmware must have sent (a received line containing each text), e.g. the M310
   // report after M502 + M501 that shows the stored controller came back.
   std::vector<std::string> expected_replies;
+  // The largest interval between two control-step starts (nominally 128 ms); off unless given.
+  std::optional<double> max_step_gap_ms;
 };
 
 void print_report(std::ostream& out, const RunResult& result);

@@ -86,6 +86,7 @@ Runner::Runner(const RunConfig& config)
       board_(rig_.board()),
       session_(board_) {
   result_.config = config;
+  if (config.silicon_eeprom) board_.use_silicon_eeprom_timing();
   for (const TimedCommand& c : config.gcode)
     if (c.at_s) (c.in_tune ? tune_timed_ : timed_).push_back(c);
   std::stable_sort(timed_.begin(), timed_.end(),
@@ -282,6 +283,7 @@ RunResult Runner::run() {
 void Runner::finish() {
   result_.end_s = board_.time_s();
   result_.step_cycles = board_.step_cycles();
+  result_.eeprom = board_.eeprom_stats();
   result_.image = board_.image_size();
   result_.resets = board_.reset_count();
   result_.simavr_messages = board_.simavr_messages();

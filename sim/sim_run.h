@@ -79,6 +79,7 @@ struct RunConfig {
   bool fault_in_tune = false;
   std::string csv_path;
   std::optional<AutotuneConfig> autotune;
+  bool silicon_eeprom = false;  // --eeprom-timing silicon: 3.4 ms per EEPROM byte write
 };
 
 struct RunResult {
@@ -93,6 +94,7 @@ struct RunResult {
   int report_power_bad = 0;         // of those, with @: missing or outside 0..255
   double report_error_max_c = 0.0;  // see sim_run.cpp: kReportLatencyS
   StepCycleStats step_cycles;
+  EepromStats eeprom;
   ImageSize image;
   double wall_s = 0.0;
   int resets = 0;

@@ -12,7 +12,12 @@ const char* expected_error(FaultKind kind) {
     case FaultKind::kShort:
       return "MAXTEMP";  // a shorted one as very hot
     case FaultKind::kM112:
+    case FaultKind::kM112Wait:
+    case FaultKind::kM112Burst:
       return "Emergency stop";
+    case FaultKind::kOverrun:
+    case FaultKind::kOverrunNumbered:
+      return "serial input lost";
     default:
       return "";
   }

@@ -21,6 +21,14 @@ const char* fault_name(FaultKind kind) {
       return "host sends M108";
     case FaultKind::kM112:
       return "host sends M112";
+    case FaultKind::kM112Wait:
+      return "M112 behind a waiting M109 and a held line";
+    case FaultKind::kM112Burst:
+      return "M112 after a burst that fills the RX ring";
+    case FaultKind::kOverrun:
+      return "RX overrun, unnumbered lines";
+    case FaultKind::kOverrunNumbered:
+      return "RX overrun, numbered lines";
     case FaultKind::kNone:
       break;
   }
@@ -37,6 +45,7 @@ void print_fault(std::ostream& out, const RunResult& r) {
     out << "  Error:" << f.expected_error << "  "
         << (f.error_line_s ? "printed after " + format_fixed(*f.error_line_s, 3) + " s" : "NOT printed")
         << "\n";
+  for (const std::string& p : f.serial_problems) out << "  serial           " << p << "\n";
   if (r.config.fault == FaultKind::kHang)
     out << "  watchdog reset   " << (f.reset_s ? format_fixed(*f.reset_s, 3) + " s after D0" : "NONE") << "\n"
         << "  start again      " << (f.restarted ? "yes" : "NO") << "\n"
@@ -206,8 +215,12 @@ std::vector<std::string> failed_checks(const RunResult& r, const CheckLimits& li
   require(r.fault.has_value(), "the fault was never injected");
   if (!r.fault) return failed;
   const FaultOutcome& f = *r.fault;
-  require(!f.heater_on_at_end, "the heater is on at the end of the run");
-  if (r.config.fault == FaultKind::kHang) {
+  const bool overrun = r.config.fault == FaultKind::kOverrun || r.config.fault == FaultKind::kOverrunNumbered;
+  if (!overrun) require(!f.heater_on_at_end, "the heater is on at the end of the run");  // overrun: still heating
+  if (r.config.fault == FaultKind::kOverrun || r.config.fault == FaultKind::kOverrunNumbered) {
+    for (const std::string& p : f.serial_problems) failed.push_back(p);
+    require(r.resets == 0, "the CPU was reset during the run");
+  } else if (r.config.fault == FaultKind::kHang) {
     require(f.reset_s.has_value(), "no watchdog reset after D0");
     require(f.restarted, "no `start` after the watchdog reset");
     require(!f.heater_on_after_reset, "the heater came on after the watchdog reset");

@@ -14,6 +14,7 @@
 #include "sim/plant_model.h"
 #include "sim/host_session.h"
 #include "sim/run_files.h"
+#include "sim/serial_scenario.h"
 #include "sim/sensor.h"
 
 namespace sim {
@@ -78,6 +79,7 @@ class Runner {
   Plant plant_;
   ThermistorAdc adc_;
   HostSession session_;
+  SerialScenario serial_;
 
   std::vector<TimedCommand> timed_;  // sorted by at_s
   std::vector<TimedCommand> tune_timed_;  // timed from M303's ok (line cleared once sent)
@@ -108,7 +110,8 @@ Runner::Runner(const RunConfig& config)
       board_(config.board, config.elf_path),
       plant_(config_.plant, kPlantStepS),
       adc_(thermistor::kEpcos100k, config.board.thermistor_pullup_ohm, config.noise_lsb, config.seed),
-      session_(board_) {
+      session_(board_),
+      serial_(session_, config.fault) {
   result_.config = config;
   for (const TimedCommand& c : config.gcode)
     if (c.at_s) (c.in_tune ? tune_timed_ : timed_).push_back(c);
@@ -163,6 +166,7 @@ void Runner::on_plant_step() {
   if (++trace_steps_ == kStepsPerTraceSample) record_trace(now);
 
   send_due_commands(now);
+  serial_.poll(now);
   session_.poll();
 }
 
@@ -195,6 +199,7 @@ void Runner::inject_fault(double now_s) {
   if (config_.fault == FaultKind::kHang) session_.send("D0");
   if (config_.fault == FaultKind::kM108) session_.send("M108");
   if (config_.fault == FaultKind::kM112) session_.send("M112");
+  if (is_serial_scenario(config_.fault)) serial_.start(config_.target_c);
 }
 
 void Runner::on_line(const ReplyLine& line) {
@@ -394,7 +399,11 @@ void Runner::evaluate_fault_outcome() {
     record.heater_last_change_s = double(heater.last_change_cycle()) / board_.frequency_hz();
     record.reset_s = reset_after_fault_s_;
     record.heater_turned_on_after_reset = heater.turn_on_count() > heater_turn_ons_at_that_reset_;
+    // Serial scenarios: timed from the last byte of the M112/M108 the host sent.
+    if (is_serial_scenario(config_.fault)) record.fault_s = serial_.urgent_sent_s().value_or(record.fault_s);
     result_.fault = evaluate_fault(record, session_.lines());
+    if (config_.fault == FaultKind::kOverrun || config_.fault == FaultKind::kOverrunNumbered)
+      result_.fault->serial_problems = check_overrun_replies(config_.fault, session_.lines(), *fault_abs_s_);
   }
 }
 

@@ -22,7 +22,7 @@ Interpreter::Handler Interpreter::handler_for(const Command& cmd) const {
     case 105: return &Interpreter::report_temperatures;
     case 106: return &Interpreter::fan_on;
     case 107: return &Interpreter::fan_off;
-    case 108: return &Interpreter::cancel_wait;
+    case 108: return &Interpreter::nothing;  // acted on by urgent() when its bytes arrived
     case 109: return &Interpreter::set_target_and_wait;
     case 110: return &Interpreter::set_line_number;
     case 112: return &Interpreter::nothing;
@@ -112,16 +112,9 @@ void Interpreter::fan_on(const Command& cmd) {
 
 void Interpreter::fan_off(const Command&) { machine_.set_fan_duty(0); }
 
-void Interpreter::cancel_wait(const Command&) {
-  machine_.cancel_heating();     // an M303 in progress ends, heater off
-  // The M109's "ok"; execute() then answers the M108. A machine command (M500) is not
-  // cancelled: it finishes on its own, well within a second.
-  if (waiting() && wait_ != Wait::kMachine) finish_wait();
-}
-
 void Interpreter::set_line_number(const Command& cmd) {
   // "N41 M110" already set last_line_ = 41 in process_line(); "M110 N41" sets it here.
-  cmd.integer('N', 0, 0x7FFFFFFE, &last_line_, out_);
+  cmd.integer('N', 0, kMaxLineNumber - 1, &last_line_, out_);
 }
 
 void Interpreter::nothing(const Command&) {}

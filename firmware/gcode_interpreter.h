@@ -1,17 +1,22 @@
 // The G-code layer as the main loop sees it: bytes in, replies out, machine calls made.
 //
 // Main loop contract:
-//   while (gcode.accepting() && uart_read(&byte)) gcode.feed(byte);
+//   urgent(kind) for each M112/M108 the emergency parser saw in the byte stream (at once);
+//   while (gcode.accepting() && uart_read(&byte)) gcode.feed(byte), or input_lost() where the
+//   UART dropped bytes;
 //   gcode.poll(now_ms);   // every pass; drives M109 waits and M155 auto-reports
 // Every complete line is answered synchronously inside feed() (exactly one "ok" per non-empty
 // line), except M109: its "ok" is deferred until poll() sees the target reached (temperature
-// lines every second meanwhile). While waiting, M112 and M108 (cancel the wait) are still
-// executed at once; any other line is held and accepting() turns false until the wait ends,
-// so the rest of the input stays in the UART ring. M112 is executed before the line-number
-// and checksum checks (a stop must never be lost to a protocol error; stopping twice is harmless).
+// lines every second meanwhile). M112 and M108 act through urgent(), ahead of any queue; their
+// lines, when they arrive, pass the wait and only get their "ok" (a line M108 must not cancel
+// a wait that began after it; a line M112 still stops, silently if already stopped). Any other
+// line is held during the wait and accepting() turns false until it ends, so the rest of the
+// input stays in the UART ring. M112 is executed before the line-number and checksum checks (a
+// stop must never be lost to a protocol error; stopping twice is harmless).
 #pragma once
 #include <stdint.h>
 
+#include "firmware/gcode_emergency_parser.h"
 #include "firmware/gcode_line.h"
 #include "firmware/gcode_machine.h"
 #include "firmware/gcode_output.h"
@@ -24,6 +29,8 @@ class Interpreter {
   constexpr Interpreter(Machine& machine, Output& out) : machine_(machine), out_(out) {}
 
   void feed(char byte);                  // one received byte
+  void input_lost();                     // the UART dropped bytes here (RxEvent::kLost)
+  void urgent(Urgent kind);              // M112 / M108 taken from the byte stream
   bool accepting() const { return !held_; }  // false: a line is held behind an M109 wait
   void poll(uint32_t now_ms);            // time base for waits and auto-reports (ms, wraps)
   bool waiting() const { return wait_ != Wait::kNone; }
@@ -42,7 +49,10 @@ class Interpreter {
   void echo_unknown(const char* typed);  // echo:Unknown command: "<typed>"
   void finish_wait();
   void write_temperatures();
-  void request_resend(const FlashText* reason);
+  // Numbered: "Error:<reason>, Last Line: n" + "Resend: n+1" + ok; else "Error:<reason>, line
+  // discarded" + ok. `bad_byte` >= 0 is appended to the reason as " 0xNN".
+  void reject_line(bool numbered, const FlashText* reason, int16_t bad_byte = -1);
+  void request_resend(const FlashText* reason) { reject_line(true, reason); }
 
   // Command handlers (gcode_commands.cpp); each validates everything before calling the machine.
   void set_target(const Command& cmd);           // M104
@@ -53,7 +63,6 @@ class Interpreter {
   void pid(const Command& cmd);                  // M301
   void fan_on(const Command& cmd);               // M106
   void fan_off(const Command& cmd);              // M107
-  void cancel_wait(const Command& cmd);          // M108
   void set_line_number(const Command& cmd);      // M110
   void firmware_info(const Command& cmd);        // M115
   void save_settings(const Command& cmd);        // M500
@@ -63,7 +72,7 @@ class Interpreter {
   void clear_fault(const Command& cmd);          // M999
   void hang(const Command& cmd);                 // D0
   void select_tool(const Command& cmd);          // T<n>
-  void nothing(const Command& cmd);              // M112 (already done before the line checks)
+  void nothing(const Command& cmd);              // M112, M108 (done before the line checks / urgent())
   void write_pid_gains();
 
   Machine& machine_;

@@ -15,7 +15,7 @@ void Interpreter::firmware_info(const Command&) {
       "Cap:EEPROM:1\n"
       // M112/M108 are honoured during M109 waits, but a line held behind a wait blocks input,
       // so we do not claim Marlin's byte-level emergency parser.
-      "Cap:EMERGENCY_PARSER:0\n"
+      "Cap:EMERGENCY_PARSER:1\n"
       "Cap:SERIAL_XON_XOFF:0\n"));
 }
 

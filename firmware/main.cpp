@@ -6,6 +6,7 @@
 #include "firmware/banner.h"
 #include "firmware/control_loop.h"
 #include "firmware/controller_bank.h"
+#include "firmware/emergency_input.h"
 #include "firmware/fuzzy_surface_flash.h"
 #include "firmware/gcode_interpreter.h"
 #include "firmware/heater_manager.h"
@@ -33,7 +34,30 @@ firmware::HotendMachine g_machine(g_heater, g_loop, g_bank, g_tune, g_out);
 gcode::Interpreter g_gcode(g_machine, g_out);
 
 bool has_work() {
-  return hal::adc::window_ready() || (g_gcode.accepting() && hal::uart::rx_available());
+  return hal::adc::window_ready() || firmware::emergency_input::pending() ||
+         (g_gcode.accepting() && hal::uart::rx_available());
+}
+
+// M112/M108 seen in the byte stream (the RX interrupt already switched the heater off for
+// M112): latch the fault or end the wait now, whatever lines are queued or held.
+void take_urgent() {
+  using firmware::emergency_input::take;
+  if (take(gcode::Urgent::kStop)) g_gcode.urgent(gcode::Urgent::kStop);
+  if (take(gcode::Urgent::kCancelWait)) g_gcode.urgent(gcode::Urgent::kCancelWait);
+}
+
+// Received input until a control step or an urgent command is due, or a line is held.
+void feed_input() {
+  uint8_t byte;
+  while (!hal::adc::window_ready() && !firmware::emergency_input::pending() && g_gcode.accepting()) {
+    const hal::uart::RxEvent event = hal::uart::read(byte);
+    if (event == hal::uart::RxEvent::kNone) return;
+    if (event == hal::uart::RxEvent::kLost) {
+      g_gcode.input_lost();
+    } else {
+      g_gcode.feed(static_cast<char>(byte));
+    }
+  }
 }
 
 }  // namespace
@@ -42,7 +66,7 @@ int main() {
   // The heater outputs are already low: .init3 (hal/startup.cpp) ran before this.
   hal::gpio::drive_low(board::kPartFan);
   hal::sleep::init();
-  hal::uart::init();
+  hal::uart::init(firmware::emergency_input::on_rx_byte);
   hal::adc::init(board::kHotendAdcChannel);
   hal::tick::init();
   hal::enable_interrupts();  // the banner below may be longer than the TX ring
@@ -54,15 +78,14 @@ int main() {
 
   for (;;) {
     hal::sleep::idle_unless(has_work);
+    take_urgent();  // before the step: a stop is latched before a new duty is computed
     uint16_t adc_q6;
-    if (hal::adc::take_window(adc_q6)) g_loop.run(adc_q6);
-    uint8_t byte;
-    // Stop feeding when a window is ready, so a burst of commands cannot delay the control step.
-    while (!hal::adc::window_ready() && g_gcode.accepting() && hal::uart::read(byte)) {
-      g_gcode.feed(static_cast<char>(byte));
+    if (hal::adc::take_window(adc_q6)) {
+      g_loop.run(adc_q6);
+      take_urgent();  // a stop that came during the step overrides the duty it handed over
     }
+    // Stops at a ready window, so a burst of commands cannot delay the control step.
+    feed_input();
     g_gcode.poll(hal::tick::millis());
-    // Lost input shows up as a checksum or line-number error the host resends; say why.
-    if (hal::uart::take_rx_dropped() != 0) g_out.write_flash(GCODE_TEXT("echo:Serial receive overrun, bytes lost\n"));
   }
 }

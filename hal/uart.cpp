@@ -22,12 +22,19 @@ static_assert(F_CPU / (8UL * (hal::uart::kUbrr + 1)) * 1000UL / hal::uart::kBaud
 uint8_t g_rx_buffer[hal::uart::kRxBufferSize];
 volatile uint8_t g_rx_head;  // ISR writes
 volatile uint8_t g_rx_tail;  // main loop writes
-volatile uint8_t g_rx_dropped;
+// Loss marks: bit i set = bytes were lost just before slot i (set by the ISR when it stores,
+// cleared by the reader when it reports); g_rx_lost_pending = lost after the newest byte.
+// 16 bytes of RAM instead of a second ring; touched only when something was lost.
+volatile uint8_t g_rx_lost_bits[hal::uart::kRxBufferSize / 8];
+volatile uint8_t g_rx_lost_pending;
+hal::uart::RxObserver g_rx_observer;  // set before the receiver is enabled, then constant
 uint8_t g_tx_buffer[hal::uart::kTxBufferSize];
 volatile uint8_t g_tx_head;  // main loop writes
 volatile uint8_t g_tx_tail;  // ISR writes
 
 // Sends the oldest queued byte (UDR0 must be empty); false when the ring is empty.
+inline uint8_t lost_bit(uint8_t slot) { return static_cast<uint8_t>(1u << (slot & 7u)); }
+
 inline bool send_next() {
   const uint8_t tail = g_tx_tail;
   if (tail == g_tx_head) return false;
@@ -38,17 +45,24 @@ inline bool send_next() {
 
 }  // namespace
 
-// Cycle budget: 74 measured in simavr (ATmega2560). Store one byte or count it lost.
+// Cycle budget: see hal/README.md (measured in simavr). Show the byte to the observer, then
+// store it, or mark it lost when the ring is full.
 ISR(USART0_RX_vect) {
   const bool overrun = (UCSR0A & (1 << DOR0)) != 0;  // must be read before UDR0
   const uint8_t byte = UDR0;
+  if (g_rx_observer != nullptr) g_rx_observer(byte, overrun);
   const uint8_t head = g_rx_head;
   const uint8_t next = static_cast<uint8_t>(head + 1) & kRxMask;
-  if (overrun || next == g_rx_tail) g_rx_dropped = static_cast<uint8_t>(g_rx_dropped + 1);
-  if (next != g_rx_tail) {
-    g_rx_buffer[head] = byte;
-    g_rx_head = next;
+  if (next == g_rx_tail) {
+    g_rx_lost_pending = 1;
+    return;
   }
+  // A hardware overrun lost frames next to this byte, before or after it (the datasheet's
+  // buffering leaves which one open): mark both sides; a false mark costs one resend.
+  if (g_rx_lost_pending || overrun) g_rx_lost_bits[head >> 3] |= lost_bit(head);
+  g_rx_buffer[head] = byte;
+  g_rx_head = next;
+  g_rx_lost_pending = overrun;
 }
 
 // Cycle budget: max 46 measured in simavr. One byte out, or stop the interrupt when empty.
@@ -59,21 +73,32 @@ ISR(USART0_UDRE_vect) {
 namespace hal {
 namespace uart {
 
-void init() {
+void init(RxObserver observer) {
+  g_rx_observer = observer;
   UBRR0 = kUbrr;
   UCSR0A = (1 << U2X0);
   UCSR0C = (1 << UCSZ01) | (1 << UCSZ00);  // 8 data bits, no parity, 1 stop bit
   UCSR0B = (1 << RXEN0) | (1 << TXEN0) | (1 << RXCIE0);
 }
 
-bool rx_available() { return g_rx_head != g_rx_tail; }
+bool rx_available() { return g_rx_head != g_rx_tail || g_rx_lost_pending; }
 
-bool read(uint8_t& byte) {
+RxEvent read(uint8_t& byte) {
+  CriticalSection lock;  // the loss marks share bytes with the slots the ISR marks
   const uint8_t tail = g_rx_tail;
-  if (tail == g_rx_head) return false;
+  if (tail == g_rx_head) {  // empty: a loss after the newest byte is reported here
+    if (!g_rx_lost_pending) return RxEvent::kNone;
+    g_rx_lost_pending = 0;
+    return RxEvent::kLost;
+  }
+  const uint8_t bit = lost_bit(tail);
+  if (g_rx_lost_bits[tail >> 3] & bit) {  // the mark first, the byte on the next call
+    g_rx_lost_bits[tail >> 3] &= static_cast<uint8_t>(~bit);
+    return RxEvent::kLost;
+  }
   byte = g_rx_buffer[tail];
   g_rx_tail = static_cast<uint8_t>(tail + 1) & kRxMask;
-  return true;
+  return RxEvent::kByte;
 }
 
 void write(uint8_t byte) {
@@ -100,13 +125,6 @@ void flush() {
       send_next();
     }
   }
-}
-
-uint8_t take_rx_dropped() {
-  CriticalSection lock;
-  const uint8_t dropped = g_rx_dropped;
-  g_rx_dropped = 0;
-  return dropped;
 }
 
 }  // namespace uart

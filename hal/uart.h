@@ -17,11 +17,20 @@ constexpr uint8_t kUbrr = 16;       // with U2X0
 constexpr uint8_t kRxBufferSize = 128;
 constexpr uint8_t kTxBufferSize = 64;
 
-void init();  // enables the receiver last: the host may send from then on
+// Sees every received byte inside the RX interrupt, before the ring (so also the bytes a full
+// ring drops); `overrun`: the hardware lost frames around this byte. Must be short and
+// straight-line: it delays the next byte and the tick. hal/ knows nothing of what it looks for.
+using RxObserver = void (*)(uint8_t byte, bool overrun);
 
-// Main loop: next received byte, false when none is waiting.
-bool read(uint8_t& byte);
-bool rx_available();
+// Enables the receiver last: the host may send from then on. `observer` may be nullptr.
+void init(RxObserver observer);
+
+// What the main loop takes from the RX ring, in arrival order. kLost stands where bytes were
+// dropped (ring full, or hardware overrun) — between the bytes before and after it — so the
+// line layer can discard the damaged line instead of gluing its pieces to the next one.
+enum class RxEvent : uint8_t { kNone, kByte, kLost };
+RxEvent read(uint8_t& byte);  // `byte` is set only for kByte
+bool rx_available();          // read() would return something other than kNone
 
 // Queues one byte. When the TX buffer is full it sleeps until the transmitter frees a slot
 // (interrupts must be enabled then; with interrupts off it pushes bytes out by polling).
@@ -30,9 +39,6 @@ void write(uint8_t byte);
 // Waits until the TX ring is empty; the hardware sends the last byte or two by itself even
 // with interrupts off (used before a deliberate hang).
 void flush();
-
-// Bytes lost because the RX buffer was full (or the hardware overran), since the last call.
-uint8_t take_rx_dropped();
 
 }  // namespace uart
 }  // namespace hal

@@ -63,9 +63,10 @@ struct Rig {
   BankMachine machine;
   gcode_test::StringOutput out;
   gcode::Interpreter gcode{machine, out};
+  gcode::EmergencyParser emergency;
 
   std::string send(const std::string& text) {
-    for (char c : text) gcode.feed(c);
+    gcode_test::feed_like_firmware(emergency, gcode, text);
     return out.take();
   }
 };

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "firmware/gcode_emergency_parser.h"
 #include "firmware/gcode_interpreter.h"
 #include "firmware/gcode_machine.h"
 #include "firmware/gcode_output.h"
@@ -56,6 +57,7 @@ class FakeMachine final : public gcode::Machine {
   const gcode::FlashText* firmware_version() override { return GCODE_TEXT("1.2.3"); }
   const gcode::FlashText* machine_type() override { return GCODE_TEXT("Test board"); }
   void hang_for_watchdog() override { calls.push_back("hang"); }
+  void cancel_heating() override { calls.push_back("cancel_heating"); }
   bool handle_command(const gcode::Command& cmd, gcode::Output& out) override {
     if (cmd.letter != 'M' || cmd.code != 900) return false;  // a stand-in extension command
     int32_t k = 0;
@@ -91,14 +93,31 @@ inline std::string numbered(int32_t n, const std::string& command) {
   return checksummed("N" + std::to_string(n) + " " + command);
 }
 
+// Feeds `text` the way the firmware does: each byte passes the emergency parser first (RX
+// interrupt), and what it recognises reaches urgent() before the byte reaches the line layer.
+inline void feed_like_firmware(gcode::EmergencyParser& emergency, gcode::Interpreter& gcode, const std::string& text) {
+  for (char c : text) {
+    const gcode::Urgent urgent = emergency.feed(static_cast<uint8_t>(c));
+    if (urgent != gcode::Urgent::kNone) gcode.urgent(urgent);
+    gcode.feed(c);
+  }
+}
+
 // One interpreter wired to the fakes; send() feeds text and returns the replies it produced.
+// Bytes go in as feed_like_firmware() sends them.
 struct Rig {
   FakeMachine machine;
   StringOutput out;
   gcode::Interpreter gcode{machine, out};
+  gcode::EmergencyParser emergency;
 
   std::string send(const std::string& text) {
-    for (char c : text) gcode.feed(c);
+    feed_like_firmware(emergency, gcode, text);
+    return out.take();
+  }
+  // Bytes lost at this point of the stream (the UART's RxEvent::kLost).
+  std::string lose() {
+    gcode.input_lost();
     return out.take();
   }
   std::string poll(uint32_t now_ms) {

@@ -96,11 +96,12 @@ struct TuneRig {
   TuneMachine machine;
   gcode_test::StringOutput out;
   gcode::Interpreter gcode{machine, out};
+  gcode::EmergencyParser emergency;
   design::PlantSim plant;
   double max_c = 0;
 
   std::string send(const std::string& text) {
-    for (char c : text) gcode.feed(c);
+    gcode_test::feed_like_firmware(emergency, gcode, text);
     return out.take();
   }
   // One 128 ms control period as firmware/control_loop.cpp runs it, then the main loop's poll.

@@ -99,7 +99,7 @@ TEST(GcodeCommands, M115FirmwareInfoAndCapabilities) {
   EXPECT_EQ(rig.send("M115\n"),
             "FIRMWARE_NAME:hotend-controller FIRMWARE_VERSION:1.2.3 PROTOCOL_VERSION:1.0 "
             "MACHINE_TYPE:Test board EXTRUDER_COUNT:1\n"
-            "Cap:AUTOREPORT_TEMP:1\nCap:EEPROM:1\nCap:EMERGENCY_PARSER:0\nCap:SERIAL_XON_XOFF:0\n"
+            "Cap:AUTOREPORT_TEMP:1\nCap:EEPROM:1\nCap:EMERGENCY_PARSER:1\nCap:SERIAL_XON_XOFF:0\n"
             "ok\n");
 }
 

@@ -1,6 +1,7 @@
 // Line assembly from the byte stream: terminators, comments, blanks, noise, overlong lines.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -10,13 +11,20 @@ namespace {
 
 using gcode::LineAssembler;
 
-// Feeds `bytes` and returns the completed lines; "<overflow>" marks a discarded long line.
+// Feeds `bytes` and returns the completed lines; "<overflow>" marks a discarded long line,
+// "<control 0xNN>" one holding a control byte; "N" is appended when the discarded line was numbered.
 std::vector<std::string> lines_of(LineAssembler& assembler, const std::string& bytes) {
   std::vector<std::string> lines;
   for (char c : bytes) {
     const LineAssembler::Event event = assembler.feed(c);
+    const std::string n = assembler.numbered() ? " N" : "";
     if (event == LineAssembler::Event::kLine) lines.push_back(assembler.text());
-    if (event == LineAssembler::Event::kOverflow) lines.push_back("<overflow>");
+    if (event == LineAssembler::Event::kOverflow) lines.push_back("<overflow>" + n);
+    if (event == LineAssembler::Event::kControlChar) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "%02X", assembler.bad_byte());
+      lines.push_back(std::string("<control 0x") + hex + ">" + n);
+    }
   }
   return lines;
 }
@@ -34,11 +42,36 @@ TEST(GcodeLine, CommentsAndBlanksAreStripped) {
             (std::vector<std::string>{"M104 S200", "M105"}));
 }
 
-TEST(GcodeLine, TabsBecomeBlanksAndControlBytesAreDropped) {
+TEST(GcodeLine, TabsBecomeBlanks) {
   LineAssembler a;
-  EXPECT_EQ(lines_of(a, std::string("M104\tS2") + '\x01' + "00" + '\x7f' + "\n"),
-            (std::vector<std::string>{"M104 S200"}));
-  EXPECT_EQ(lines_of(a, std::string("M1") + '\0' + "05\n"), (std::vector<std::string>{"M105"}));
+  EXPECT_EQ(lines_of(a, "M104\tS200\t\n"), (std::vector<std::string>{"M104 S200"}));
+}
+
+// Issue 8: control bytes were dropped silently, so "M10<DEL>4 S2<SOH>10" became "M104 S210".
+TEST(GcodeLine, ControlBytesDiscardTheLine) {
+  LineAssembler a;
+  EXPECT_EQ(lines_of(a, std::string("M10") + '\x7f' + "4 S2" + '\x01' + "10\nM105\n"),
+            (std::vector<std::string>{"<control 0x7F>", "M105"}));
+  EXPECT_EQ(lines_of(a, std::string("M1") + '\0' + "05\n"), (std::vector<std::string>{"<control 0x00>"}));
+  EXPECT_EQ(lines_of(a, std::string(" \x02N5 M105*3\n")), (std::vector<std::string>{"<control 0x02> N"}));
+  EXPECT_EQ(lines_of(a, std::string("M105 ; \x03 in a comment\n")), (std::vector<std::string>{"M105"}));
+}
+
+TEST(GcodeLine, OverflowTellsWhetherTheLineWasNumbered) {
+  LineAssembler a;
+  EXPECT_EQ(lines_of(a, "n12 M117 " + std::string(100, 'x') + "\n"), (std::vector<std::string>{"<overflow> N"}));
+  EXPECT_EQ(lines_of(a, "  M117 " + std::string(100, 'x') + "\n"), (std::vector<std::string>{"<overflow>"}));
+}
+
+TEST(GcodeLine, LostInputDiscardsToTheEndOfTheLine) {
+  LineAssembler a;
+  EXPECT_EQ(lines_of(a, "N7 M1"), (std::vector<std::string>{}));
+  EXPECT_TRUE(a.lose());
+  EXPECT_TRUE(a.numbered());
+  EXPECT_FALSE(a.lose());  // the same stretch: report once
+  EXPECT_EQ(lines_of(a, "01 P34\nM105\n"), (std::vector<std::string>{"M105"}));
+  EXPECT_TRUE(a.lose());   // a new stretch
+  EXPECT_EQ(lines_of(a, "\nM106\n"), (std::vector<std::string>{"M106"}));
 }
 
 TEST(GcodeLine, LongestLineFitsOneMoreOverflows) {

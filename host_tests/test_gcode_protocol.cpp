@@ -9,6 +9,7 @@
 
 namespace {
 
+using gcode_test::checksummed;
 using gcode_test::numbered;
 using gcode_test::Rig;
 
@@ -138,12 +139,24 @@ TEST(GcodeProtocol, M110NeedsAValidNumber) {
   EXPECT_EQ(rig.send(numbered(1, "M105")), "ok T:25.00 /0.00 @:0\n");  // still at 0
 }
 
-TEST(GcodeProtocol, OverlongLineAsksForResend) {
+TEST(GcodeProtocol, OverlongNumberedLineAsksForResend) {
+  Rig rig;
+  rig.send(numbered(1, "M105"));
+  const std::string too_long = numbered(2, "M117 " + std::string(120, 'x'));
+  EXPECT_EQ(rig.send(too_long), "Error:Format error: line too long, Last Line: 1\nResend: 2\nok\n");
+  EXPECT_EQ(rig.send(numbered(2, "M105")), "ok T:25.00 /0.00 @:0\n");
+}
+
+// Issue 8: an unnumbered line has no number to resend (was "Resend: 2" here, "Resend: 1" on a
+// fresh connection, which a host cannot honour).
+TEST(GcodeProtocol, OverlongUnnumberedLineIsRefusedWithoutResend) {
   Rig rig;
   rig.send(numbered(1, "M105"));
   const std::string too_long = "M117 " + std::string(120, 'x') + "\n";
-  EXPECT_EQ(rig.send(too_long), "Error:Format error: line too long, Last Line: 1\nResend: 2\nok\n");
-  EXPECT_EQ(rig.send(numbered(2, "M105")), "ok T:25.00 /0.00 @:0\n");
+  EXPECT_EQ(rig.send(too_long), "Error:Format error: line too long, line discarded\nok\n");
+  EXPECT_EQ(rig.send(numbered(2, "M105")), "ok T:25.00 /0.00 @:0\n");  // the sequence is intact
+  Rig fresh;
+  EXPECT_EQ(fresh.send("   " + too_long), "Error:Format error: line too long, line discarded\nok\n");
 }
 
 TEST(GcodeProtocol, CommentsAreNotChecksummed) {
@@ -188,6 +201,106 @@ TEST(GcodeProtocol, CompactAndLowerCaseCommands) {
   EXPECT_EQ(rig.send("M104S210\n"), "ok\n");
   EXPECT_EQ(rig.send(gcode_test::checksummed("N1M106S7")), "ok\n");
   EXPECT_EQ(rig.machine.calls, (Calls{"set_target 51200", "set_target 53760", "fan 7"}));
+}
+
+}  // namespace
+
+namespace {
+
+// Issue 8: every number M110 accepts is followed by a line the layer accepts (2147483640..46
+// were refused: the digit reader saturated one digit early, and the host looped on resends).
+TEST(GcodeProtocol, EveryLineNumberM110AcceptsIsAcceptedInSequence) {
+  for (int32_t start : {2147483639, 2147483640, 2147483645, 2147483646}) {
+    Rig rig;
+    EXPECT_EQ(rig.send("M110 N" + std::to_string(start) + "\n"), "ok\n");
+    EXPECT_EQ(rig.send(numbered(start + 1, "M106 S1")), "ok\n") << start;
+  }
+  Rig rig;
+  EXPECT_EQ(rig.send("M110 N2147483639\n"), "ok\n");
+  for (int32_t n = 2147483640; n != gcode::kMaxLineNumber; ++n)
+    EXPECT_EQ(rig.send(numbered(n, "M105")), "ok T:25.00 /0.00 @:0\n") << n;
+  EXPECT_EQ(rig.send(numbered(gcode::kMaxLineNumber, "M106 S2")), "ok\n");
+  // Past the last number there is no next line: the host must start again with M110.
+  EXPECT_EQ(rig.send(checksummed("N2147483648 M105")),
+            "Error:Bad line number, Last Line: 2147483647\nResend: 2147483648\nok\n");
+  EXPECT_EQ(rig.send(numbered(0, "M110 N0")), "ok\n");
+  EXPECT_EQ(rig.send(numbered(1, "M105")), "ok T:25.00 /0.00 @:0\n");
+  EXPECT_EQ(rig.send("M110 N2147483647\n"), "Error:M110 N must be an integer in 0..2147483646\nok\n");
+}
+
+// Issue 8: control characters were dropped, so this ran as M104 S210.
+TEST(GcodeProtocol, ControlCharacterRefusesTheLine) {
+  Rig rig;
+  EXPECT_EQ(rig.send(std::string("M10\x7f" "4 S2\x01" "10\n")),
+            "Error:Format error: control character 0x7F, line discarded\nok\n");
+  EXPECT_EQ(rig.send(std::string("M1") + '\0' + "05\n"),
+            "Error:Format error: control character 0x00, line discarded\nok\n");
+  EXPECT_TRUE(rig.machine.calls.empty());
+  EXPECT_EQ(rig.send("M106 S3\n"), "ok\n");  // the next line is clean
+  EXPECT_EQ(rig.machine.calls, Calls{"fan 3"});
+}
+
+TEST(GcodeProtocol, ControlCharacterInANumberedLineAsksForResend) {
+  Rig rig;
+  rig.send(numbered(1, "M105"));
+  std::string line = numbered(2, "M104 S210");
+  line.insert(5, 1, '\x1b');
+  EXPECT_EQ(rig.send(line), "Error:Format error: control character 0x1B, Last Line: 1\nResend: 2\nok\n");
+  EXPECT_TRUE(rig.machine.calls.empty());
+  EXPECT_EQ(rig.send(numbered(2, "M104 S210")), "ok\n");
+}
+
+TEST(GcodeProtocol, TabsAndCommentsMayHoldAnything) {
+  Rig rig;
+  EXPECT_EQ(rig.send(std::string("M106\tS4 ; \x01\x7f odd comment\r\n")), "ok\n");
+  EXPECT_EQ(rig.machine.calls, Calls{"fan 4"});
+}
+
+// Issue 8: after a receive overrun the partial line was glued to the next one
+// ("M1" + "M301 P34 I1 D100" ran as M1 with M301's words).
+TEST(GcodeProtocol, LostInputDiscardsTheDamagedLineUnnumbered) {
+  Rig rig;
+  rig.send("M1");
+  EXPECT_EQ(rig.lose(), "Error:Format error: serial input lost, line discarded\nok\n");
+  EXPECT_EQ(rig.send("01 P34 I1 D100\n"), "");  // the rest of the damaged line: no second reply
+  EXPECT_EQ(rig.send("M106 S7\n"), "ok\n");
+  EXPECT_EQ(rig.machine.calls, Calls{"fan 7"});
+}
+
+TEST(GcodeProtocol, LostInputAsksForTheFirstLostLine) {
+  Rig rig;
+  rig.send(numbered(1, "M105"));
+  rig.send(numbered(2, "M106 S1"));
+  const std::string line3 = numbered(3, "M106 S2");
+  rig.send(line3.substr(0, 4));
+  EXPECT_EQ(rig.lose(), "Error:Format error: serial input lost, Last Line: 2\nResend: 3\nok\n");
+  EXPECT_EQ(rig.lose(), "");  // the same damaged stretch
+  // Line 4 arrives whole, but the bytes up to the next newline belong to the damaged line.
+  EXPECT_EQ(rig.send(numbered(4, "M106 S4")), "");
+  EXPECT_EQ(rig.send(line3 + numbered(4, "M106 S4")), "ok\nok\n");  // the host's resend
+  EXPECT_EQ(rig.machine.calls, (Calls{"fan 1", "fan 2", "fan 4"}));
+}
+
+TEST(GcodeProtocol, LossBetweenLinesStillDiscardsTheNext) {
+  // At a line boundary the lost bytes may have been the start of the next line.
+  Rig rig;
+  rig.send(numbered(1, "M105"));
+  EXPECT_EQ(rig.lose(), "Error:Format error: serial input lost, Last Line: 1\nResend: 2\nok\n");
+  EXPECT_EQ(rig.send("M106 S9*99\n"), "");
+  EXPECT_EQ(rig.send(numbered(2, "M106 S2")), "ok\n");
+  EXPECT_EQ(rig.machine.calls, Calls{"fan 2"});
+}
+
+// The emergency parser acts before the line arrives; the line itself then only gets its ok.
+TEST(GcodeProtocol, UrgentStopComesBeforeTheLine) {
+  Rig rig;
+  rig.gcode.urgent(gcode::Urgent::kStop);
+  EXPECT_EQ(rig.out.take(), "Error:Emergency stop (M112): heater off until M999\n");
+  EXPECT_EQ(rig.machine.calls, Calls{"emergency_stop"});
+  rig.gcode.feed('M');  // the line's bytes, without the parser (already acted on)
+  for (char c : std::string("112\n")) rig.gcode.feed(c);
+  EXPECT_EQ(rig.out.take(), "ok\n");
+  EXPECT_EQ(rig.machine.calls, Calls{"emergency_stop"});
 }
 
 }  // namespace

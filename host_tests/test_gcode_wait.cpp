@@ -126,6 +126,69 @@ TEST(GcodeWait, M112IsExecutedDuringTheWait) {
   EXPECT_EQ(rig.poll(100), "ok\n");  // the fault ends the wait
 }
 
+// The firmware's order: every byte passes the emergency parser when it arrives (RX interrupt),
+// but reaches the line layer only when the main loop reads the ring, which it stops doing
+// while a line is held behind a wait.
+struct RingRig {
+  Rig rig;
+  std::string ring;
+
+  std::string send(const std::string& text) {
+    for (char c : text) {
+      const gcode::Urgent urgent = rig.emergency.feed(static_cast<uint8_t>(c));
+      if (urgent != gcode::Urgent::kNone) rig.gcode.urgent(urgent);
+      ring += c;
+    }
+    pump();
+    return rig.out.take();
+  }
+  std::string poll(uint32_t now_ms) {
+    rig.gcode.poll(now_ms);
+    pump();
+    return rig.out.take();
+  }
+  void pump() {
+    std::size_t used = 0;
+    while (used < ring.size() && rig.gcode.accepting()) rig.gcode.feed(ring[used++]);
+    ring.erase(0, used);
+  }
+};
+
+// Issue 8: an M112 behind a waiting M109 and a held line ran only when the wait ended (85 s
+// late in simavr). Now it acts as its bytes arrive.
+TEST(GcodeWait, M112BehindAHeldLineActsAtOnce) {
+  RingRig board;
+  board.send(numbered(1, "M109 S210"));
+  EXPECT_EQ(board.send(numbered(2, "M105")), "");  // held
+  EXPECT_FALSE(board.rig.gcode.accepting());
+  EXPECT_EQ(board.send(numbered(3, "M112")), "Error:Emergency stop (M112): heater off until M999\n");
+  EXPECT_EQ(board.rig.machine.calls, (Calls{"set_target 53760", "emergency_stop"}));
+  // The fault ends the wait; the held M105 and the M112 line follow, each with one ok.
+  EXPECT_EQ(board.poll(100), "ok\nok T:25.00 /210.00 @:0\nok\n");
+  EXPECT_EQ(board.rig.machine.calls, (Calls{"set_target 53760", "emergency_stop"}));  // stopped once
+}
+
+// An M108 ends the wait ahead of the held line; its own line, read later, must not cancel the
+// wait that the held line started.
+TEST(GcodeWait, M108LineDoesNotCancelALaterWait) {
+  RingRig board;
+  board.send("M109 S100\n");
+  board.send("M109 S210\n");  // held
+  // The first M109's ok (the second one now waits), then the M108 line's own ok.
+  EXPECT_EQ(board.send("M108\n"), "ok\nok\n");
+  EXPECT_TRUE(board.rig.gcode.waiting());
+  EXPECT_EQ(board.rig.machine.calls, (Calls{"set_target 25600", "cancel_heating", "set_target 53760"}));
+  board.rig.machine.status.temp_q8 = 210 * 256;
+  EXPECT_EQ(board.poll(100), "ok\n");  // the second wait ends only at its target
+}
+
+// M108 during M303 (no M109 wait): the machine's heating job is cancelled once.
+TEST(GcodeWait, M108CancelsTheHeatingJobOnce) {
+  Rig rig;
+  EXPECT_EQ(rig.send("M108\n"), "ok\n");
+  EXPECT_EQ(rig.machine.calls, Calls{"cancel_heating"});
+}
+
 TEST(GcodeWait, M155AutoReports) {
   Rig rig;
   rig.poll(1000);

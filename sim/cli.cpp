@@ -72,7 +72,9 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the cont
   (M109 S<C> before M303); --after-tune: G-code sent when the tune has ended (e.g. "M310 S2 F1":
   another controller on the tuned settings); --expect-reply TEXT (repeatable): --check fails
   unless the firmware sent a line containing TEXT. Timed commands and faults may count from M303's ok: "M108@tune+90",
-  --fault open@tune+60 (kinds also m108, m112: the host stops the tune).
+  --fault open@tune+60 (kinds also m108, m112: the host stops the tune). Serial-layer kinds
+  (sim/serial_scenario.h): m112-wait, m112-burst (heater off within 1 s of the M112's last
+  byte), overrun, overrun-numbered (the lost input reported, nothing glued).
   --eeprom-timing silicon: an EEPROM byte write takes 3.4 ms as on the ATmega1284P/2560 (EEPE
   stays set, accesses meanwhile are ignored; simavr's default completes it at once); the report
   counts the writes. --max-step-gap-ms: --check fails if two control steps start further apart.

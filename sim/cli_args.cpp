@@ -70,8 +70,17 @@ void parse_fault(const std::string& text, RunConfig& config) {
     config.fault = FaultKind::kM108;
   else if (kind == "m112")
     config.fault = FaultKind::kM112;
+  else if (kind == "m112-wait")
+    config.fault = FaultKind::kM112Wait;
+  else if (kind == "m112-burst")
+    config.fault = FaultKind::kM112Burst;
+  else if (kind == "overrun")
+    config.fault = FaultKind::kOverrun;
+  else if (kind == "overrun-numbered")
+    config.fault = FaultKind::kOverrunNumbered;
   else
-    throw std::invalid_argument("--fault: unknown kind \"" + kind + "\" (open, short, hang, m108, m112)");
+    throw std::invalid_argument("--fault: unknown kind \"" + kind +
+                                "\" (open, short, hang, m108, m112, m112-wait, m112-burst, overrun, overrun-numbered)");
   std::string when = text.substr(at + 1);
   config.fault_in_tune = when.rfind("tune+", 0) == 0;  // "open@tune+60": during M303
   if (config.fault_in_tune) when = when.substr(5);

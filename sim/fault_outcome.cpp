@@ -12,7 +12,12 @@ const char* expected_error(FaultKind kind) {
     case FaultKind::kShort:
       return "MAXTEMP";  // a shorted one as very hot
     case FaultKind::kM112:
+    case FaultKind::kM112Wait:
+    case FaultKind::kM112Burst:
       return "Emergency stop";
+    case FaultKind::kOverrun:
+    case FaultKind::kOverrunNumbered:
+      return "serial input lost";
     default:
       return "";
   }
@@ -39,6 +44,32 @@ FaultOutcome evaluate_fault(const FaultRecord& r, const std::vector<ReplyLine>& 
     if (r.reset_s && line.t_s >= *r.reset_s && line.text == "start") f.restarted = true;
   }
   return f;
+}
+
+const char* fault_name(FaultKind kind) {
+  switch (kind) {
+    case FaultKind::kOpen:
+      return "thermistor open";
+    case FaultKind::kShort:
+      return "thermistor shorted";
+    case FaultKind::kHang:
+      return "firmware hang (D0)";
+    case FaultKind::kM108:
+      return "host sends M108";
+    case FaultKind::kM112:
+      return "host sends M112";
+    case FaultKind::kM112Wait:
+      return "M112 behind a waiting M109 and a held line";
+    case FaultKind::kM112Burst:
+      return "M112 after a burst that fills the RX ring";
+    case FaultKind::kOverrun:
+      return "RX overrun, unnumbered lines";
+    case FaultKind::kOverrunNumbered:
+      return "RX overrun, numbered lines";
+    case FaultKind::kNone:
+      break;
+  }
+  return "none";
 }
 
 }  // namespace sim

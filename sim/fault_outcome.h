@@ -12,7 +12,11 @@
 namespace sim {
 
 // kM108 / kM112: the host stops the heating (break-and-continue, emergency stop) at that time.
-enum class FaultKind { kNone, kOpen, kShort, kHang, kM108, kM112 };
+// kM112Wait .. kOverrunNumbered: serial-layer scenarios (sim/serial_scenario.h).
+enum class FaultKind { kNone, kOpen, kShort, kHang, kM108, kM112, kM112Wait, kM112Burst, kOverrun, kOverrunNumbered };
+
+// What the fault is, in words, for reports ("thermistor open").
+const char* fault_name(FaultKind kind);
 
 struct FaultOutcome {
   std::optional<double> heater_last_on_s;  // last moment the heater pin was on (nullopt: on at the end)
@@ -22,6 +26,7 @@ struct FaultOutcome {
   std::optional<double> reset_s;       // first CPU reset after the fault
   bool restarted = false;              // `start` printed after that reset
   bool heater_on_after_reset = false;
+  std::vector<std::string> serial_problems;  // overrun scenarios: check_overrun_replies()
 };
 
 // Raw observations of one fault run (absolute simulated times, seconds since power-on).

@@ -43,15 +43,38 @@ HostSession::HostSession(AvrBoard& board) : board_(board) {
   board_.on_reset([this] {
     in_flight_.reset();
     partial_.clear();
+    awaiting_ok_.clear();
   });
 }
 
-void HostSession::send(std::string line, std::function<void(double)> on_ok) {
-  queue_.push_back(Command{std::move(line) + "\n", std::move(on_ok)});
+void HostSession::send(std::string line, std::function<void(double)> on_ok, std::function<void(double)> on_sent) {
+  queue_.push_back(Command{std::move(line) + "\n", std::move(on_ok), std::move(on_sent)});
+}
+
+void HostSession::send_now(std::string line, std::function<void(double)> on_sent) {
+  urgent_.push_back(Command{std::move(line) + "\n", {}, std::move(on_sent)});
+}
+
+bool HostSession::send_bytes(const std::string& text, std::size_t& sent) {
+  while (sent < text.size() && board_.uart_accepting())
+    if (board_.uart_send(static_cast<uint8_t>(text[sent]))) ++sent;
+  return sent == text.size();
 }
 
 void HostSession::poll() {
   if (boot_count_ == 0) return;  // the firmware has not said `start` yet
+  // A command part-way out is finished first: a line is never split by another.
+  const bool in_flight_partial = in_flight_ && bytes_sent_ != 0 && bytes_sent_ < in_flight_->text.size();
+  while (!urgent_.empty() && !in_flight_partial) {
+    Command& line = urgent_.front();
+    if (urgent_bytes_sent_ == 0)
+      transcript_.push_back(ReplyLine{board_.time_s(), "> " + line.text.substr(0, line.text.size() - 1)});
+    if (!send_bytes(line.text, urgent_bytes_sent_)) return;
+    awaiting_ok_.push_back(false);
+    if (line.on_sent) line.on_sent(board_.time_s());
+    urgent_.pop_front();
+    urgent_bytes_sent_ = 0;
+  }
   if (!in_flight_) {
     if (queue_.empty()) return;
     in_flight_ = std::move(queue_.front());
@@ -62,12 +85,20 @@ void HostSession::poll() {
     in_flight_since_s_ = board_.time_s();
   }
   const std::string& text = in_flight_->text;
-  while (bytes_sent_ < text.size() && board_.uart_accepting())
-    if (board_.uart_send(static_cast<uint8_t>(text[bytes_sent_]))) ++bytes_sent_;
+  const bool was_out = bytes_sent_ == text.size();
+  if (send_bytes(text, bytes_sent_) && !was_out) {
+    awaiting_ok_.push_back(true);
+    if (in_flight_->on_sent) in_flight_->on_sent(board_.time_s());
+  }
   if (!waits_for_temperature(text) && board_.time_s() - in_flight_since_s_ > kOkTimeoutS) {
     const std::string cmd = text.substr(0, text.size() - 1);
     problems_.push_back("no ok for \"" + cmd + "\" within " + std::to_string(int(kOkTimeoutS)) + " s");
     in_flight_.reset();
+    for (auto it = awaiting_ok_.begin(); it != awaiting_ok_.end(); ++it)
+      if (*it) {
+        awaiting_ok_.erase(it);
+        break;
+      }
   }
 }
 
@@ -88,10 +119,15 @@ void HostSession::on_complete_line(std::string text) {
     report->t_s = now;
     reports_.push_back(*report);
   }
-  if (starts_with(text, "ok") && in_flight_ && bytes_sent_ == in_flight_->text.size()) {
-    auto on_ok = std::move(in_flight_->on_ok);
-    in_flight_.reset();
-    if (on_ok) on_ok(now);
+  // oks come in line order: the oldest line awaiting one gets it.
+  if (starts_with(text, "ok") && !awaiting_ok_.empty()) {
+    const bool is_in_flight = awaiting_ok_.front();
+    awaiting_ok_.pop_front();
+    if (is_in_flight && in_flight_) {
+      auto on_ok = std::move(in_flight_->on_ok);
+      in_flight_.reset();
+      if (on_ok) on_ok(now);
+    }
   }
   transcript_.push_back(ReplyLine{now, "< " + text});
   lines_.push_back(ReplyLine{now, std::move(text)});

@@ -9,24 +9,6 @@
 namespace sim {
 namespace {
 
-const char* fault_name(FaultKind kind) {
-  switch (kind) {
-    case FaultKind::kOpen:
-      return "thermistor open";
-    case FaultKind::kShort:
-      return "thermistor shorted";
-    case FaultKind::kHang:
-      return "firmware hang (D0)";
-    case FaultKind::kM108:
-      return "host sends M108";
-    case FaultKind::kM112:
-      return "host sends M112";
-    case FaultKind::kNone:
-      break;
-  }
-  return "none";
-}
-
 void print_fault(std::ostream& out, const RunResult& r) {
   const FaultOutcome& f = *r.fault;
   out << "fault              " << fault_name(r.config.fault) << " at " << format_fixed(r.config.fault_at_s, 1)
@@ -37,6 +19,7 @@ void print_fault(std::ostream& out, const RunResult& r) {
     out << "  Error:" << f.expected_error << "  "
         << (f.error_line_s ? "printed after " + format_fixed(*f.error_line_s, 3) + " s" : "NOT printed")
         << "\n";
+  for (const std::string& p : f.serial_problems) out << "  serial           " << p << "\n";
   if (r.config.fault == FaultKind::kHang)
     out << "  watchdog reset   " << (f.reset_s ? format_fixed(*f.reset_s, 3) + " s after D0" : "NONE") << "\n"
         << "  start again      " << (f.restarted ? "yes" : "NO") << "\n"
@@ -219,8 +202,12 @@ std::vector<std::string> failed_checks(const RunResult& r, const CheckLimits& li
   require(r.fault.has_value(), "the fault was never injected");
   if (!r.fault) return failed;
   const FaultOutcome& f = *r.fault;
-  require(!f.heater_on_at_end, "the heater is on at the end of the run");
-  if (r.config.fault == FaultKind::kHang) {
+  const bool overrun = r.config.fault == FaultKind::kOverrun || r.config.fault == FaultKind::kOverrunNumbered;
+  if (!overrun) require(!f.heater_on_at_end, "the heater is on at the end of the run");  // overrun: still heating
+  if (r.config.fault == FaultKind::kOverrun || r.config.fault == FaultKind::kOverrunNumbered) {
+    for (const std::string& p : f.serial_problems) failed.push_back(p);
+    require(r.resets == 0, "the CPU was reset during the run");
+  } else if (r.config.fault == FaultKind::kHang) {
     require(f.reset_s.has_value(), "no watchdog reset after D0");
     require(f.restarted, "no `start` after the watchdog reset");
     require(!f.heater_on_after_reset, "the heater came on after the watchdog reset");

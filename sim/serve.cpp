@@ -245,24 +245,6 @@ void Server::finish(double wall_s) {
   r.bound = physical_bound(config_.plant, last->target_c);
 }
 
-const char* fault_kind_name(FaultKind kind) {
-  switch (kind) {
-    case FaultKind::kOpen:
-      return "open";
-    case FaultKind::kShort:
-      return "short";
-    case FaultKind::kHang:
-      return "hang";
-    case FaultKind::kM108:
-      return "m108";
-    case FaultKind::kM112:
-      return "m112";
-    case FaultKind::kNone:
-      break;
-  }
-  return "fault";
-}
-
 }  // namespace
 
 ServeResult serve(const ServeConfig& config, std::ostream& out, const volatile std::sig_atomic_t& stop) {
@@ -279,7 +261,7 @@ void print_serve_report(std::ostream& out, const ServeResult& s) {
     out << format_fixed(p.target_c, 0) << " °C at " << format_fixed(p.t_s, 1) << " s  ";
   out << "\n";
   for (const auto& f : s.faults_injected)
-    out << "fault injected     " << fault_kind_name(f.first) << " at " << format_fixed(f.second, 1)
+    out << "fault injected     " << fault_name(f.first) << " at " << format_fixed(f.second, 1)
         << " s after power-on\n";
   if (!s.run.heating_start_s) out << "(no nonzero set-point: no control-quality figures)\n";
   print_report(out, s.run);

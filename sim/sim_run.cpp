@@ -14,6 +14,7 @@
 #include "sim/run_files.h"
 #include "sim/fault_injection.h"
 #include "sim/hotend_rig.h"
+#include "sim/serial_scenario.h"
 
 namespace sim {
 namespace {
@@ -66,6 +67,7 @@ class Runner {
   HotendRig rig_;
   AvrBoard& board_;
   HostSession session_;
+  SerialScenario serial_;
 
   std::vector<TimedCommand> timed_;  // sorted by at_s
   std::vector<TimedCommand> tune_timed_;  // timed from M303's ok (line cleared once sent)
@@ -84,7 +86,8 @@ Runner::Runner(const RunConfig& config)
     : config_(config),
       rig_(config.board, config.plant, config.elf_path, config.noise_lsb, config.seed),
       board_(rig_.board()),
-      session_(board_) {
+      session_(board_),
+      serial_(session_, config.fault) {
   result_.config = config;
   if (config.silicon_eeprom) board_.use_silicon_eeprom_timing();
   for (const TimedCommand& c : config.gcode)
@@ -111,6 +114,7 @@ void Runner::on_plant_step(double now, double true_c) {
     }
   }
   send_due_commands(now);
+  serial_.poll(now);
   session_.poll();
 }
 
@@ -139,6 +143,7 @@ void Runner::send_due_commands(double now_s) {
 void Runner::inject_fault(double now_s) {
   fault_abs_s_ = now_s;
   sim::inject_fault(config_.fault, rig_.sensor(), [this](const std::string& line) { session_.send(line); });
+  if (is_serial_scenario(config_.fault)) serial_.start(config_.target_c);
 }
 
 void Runner::on_line(const ReplyLine& line) {
@@ -316,7 +321,11 @@ void Runner::evaluate_fault_outcome() {
     record.heater_last_change_s = double(heater.last_change_cycle()) / board_.frequency_hz();
     record.reset_s = reset_after_fault_s_;
     record.heater_turned_on_after_reset = heater.turn_on_count() > heater_turn_ons_at_that_reset_;
+    // Serial scenarios: timed from the last byte of the M112/M108 the host sent.
+    if (is_serial_scenario(config_.fault)) record.fault_s = serial_.urgent_sent_s().value_or(record.fault_s);
     result_.fault = evaluate_fault(record, session_.lines());
+    if (config_.fault == FaultKind::kOverrun || config_.fault == FaultKind::kOverrunNumbered)
+      result_.fault->serial_problems = check_overrun_replies(config_.fault, session_.lines(), *fault_abs_s_);
   }
 }
 

@@ -45,13 +45,12 @@ size_t count_ok_lines(const std::string& out) {
   return n;
 }
 
-// A line the protocol answers: a character other than a blank or a control character before
-// any ';' comment (bytes above 0x7F count: garbage that must be answered, not ignored).
+// A line the protocol answers: any byte but a blank before a ';' comment (a control character
+// or NUL is answered with an Error, bytes above 0x7F as an unknown command).
 bool has_command_text(const std::string& line) {
   for (char c : line) {
     if (c == ';') return false;
-    const unsigned char u = static_cast<unsigned char>(c);
-    if (u > ' ' && u != 0x7F) return true;
+    if (c != ' ' && c != '\t') return true;
   }
   return false;
 }

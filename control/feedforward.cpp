@@ -37,10 +37,12 @@ uint16_t Feedforward::duty_q16(int32_t target_q8, uint8_t fan_duty) const {
 constexpr uint8_t ModelReference::kTaps;
 
 ModelReference::Rate ModelReference::rate(int32_t time_constant_q8, uint16_t period_ms) {
-  // x advances every other period, so its step is 2h. α = 2h/(C + 2h) = (ms·512) / (C_q8·1000 +
-  // ms·512); den < 2^30 for C ≤ 3600 s.
+  // x advances every other period, so its step is 2h. α = 2h/(C + h) = (ms·512) / (C_q8·1000 +
+  // ms·256): the trapezoidal rule, 1 − e^(−2h/C) to within (2h/C)³/12 (backward Euler's
+  // 2h/(C + 2h) is slow by (2h/C)²/2: seed002's model reached 210 °C ~0.7 °C late, and the
+  // heat-up overshot by that). den < 2^30 for C ≤ 3600 s.
   const uint32_t num = uint32_t{period_ms} * 512;
-  const uint32_t den = static_cast<uint32_t>(time_constant_q8) * 1000 + num;
+  const uint32_t den = static_cast<uint32_t>(time_constant_q8) * 1000 + num / 2;
   // α < 1/256: keep it × 256 (a byte shift per step) so that it holds ≥ 8 significant bits
   // (C = 3600 s: α·2^24 ≈ 1,200); else plain Q16.
   const bool small = (num << 8) < den;
@@ -51,6 +53,10 @@ ModelReference::Rate ModelReference::rate(int32_t time_constant_q8, uint16_t per
 void ModelReference::configure(const HotendModel& m, uint16_t period_ms) {
   plant_ = rate(m.time_constant_q8, period_ms);
   full_q16_ = (kFeedforwardAmbientQ8 + m.rise_q8) << 8;
+  // α·A in q16: rise_q8·256 < 2^28, so scaled() holds it; ≥ 1 for every valid model
+  // (α ≥ 2^-24·mantissa, A ≥ 10 °C).
+  const int32_t step_q16 = scaled(m.rise_q8 << 8);
+  per_step_q16_ = fixed::multiplier_ratio(65535, 1, static_cast<uint32_t>(step_q16 > 0 ? step_q16 : 1));
   // Taps every spacing_ periods (even: they are written at reference updates, every other
   // period), (kTaps − 1)·spacing_ ≥ D; the reference reads offset_ periods later than the
   // oldest tap so that the delay is D to the period. D ≤ 600 s at h ≥ 10 ms: ≤ 60,000 periods.
@@ -71,6 +77,7 @@ void ModelReference::start(int32_t measured_q8, int32_t x_q8) {
   for (int32_t& t : tap_q8_) t = measured_q8;
   reference_q8_ = measured_q8;
   duty_q16_ = 0;
+  landing_ = false;
   newest_ = 0;
   count_ = 0;
   odd_ = false;
@@ -83,12 +90,31 @@ ModelReference::Output ModelReference::step(int32_t target_q8, uint16_t steady_q
     const int32_t target_q16 = target_q8 << 8;
     int32_t x = x_q16_;
     uint16_t duty_q16 = steady_q16;
-    if (x < target_q16) {  // heating at full power until x would pass the target
-      x += scaled(full_q16_ - x);
-      if (x < target_q16) duty_q16 = 65535; else x = target_q16;
-    } else if (x > target_q16) {  // cooling with the heater off
-      x += scaled((kFeedforwardAmbientQ8 << 8) - x);
-      if (x > target_q16) duty_q16 = 0; else x = target_q16;
+    landing_ = false;
+    // The update is linear in the duty u: Δx(u) = Δx(0) + u·α·A. Heating at full power (or
+    // cooling with the heater off) until x would pass the target; that update lands x on it with
+    // u = (target − x − Δx(0)) / (α·A), from the full-power step less the overshoot it would
+    // make: 0 ≤ overshoot ≤ α·A, so overshoot × per_step ≤ 65535 + α·A < 2^30 (mul_round).
+    if (x < target_q16) {
+      const int32_t step = scaled(full_q16_ - x);
+      if (x + step < target_q16) {
+        x += step;
+        duty_q16 = 65535;
+      } else {
+        duty_q16 = fixed::sat_u16(65535 - fixed::mul_round(x + step - target_q16, per_step_q16_));
+        x = target_q16;
+        landing_ = true;
+      }
+    } else if (x > target_q16) {
+      const int32_t step = scaled((kFeedforwardAmbientQ8 << 8) - x);
+      if (x + step > target_q16) {
+        x += step;
+        duty_q16 = 0;
+      } else {
+        duty_q16 = fixed::sat_u16(fixed::mul_round(target_q16 - (x + step), per_step_q16_));
+        x = target_q16;
+        landing_ = true;
+      }
     }
     x_q16_ = x;
     duty_q16_ = duty_q16;
@@ -115,7 +141,7 @@ ModelReference::Output ModelReference::step(int32_t target_q8, uint16_t steady_q
     reference_q8_ = a_q8 + fixed::mul_q16_round(b_q8 - a_q8, frac_q16);
   }
   // The steady duty follows the fan at once; only the heat-up phases come from the model.
-  const uint16_t duty_q16 = duty_q16_ == 65535 || duty_q16_ == 0 ? duty_q16_ : steady_q16;
+  const uint16_t duty_q16 = landing_ || duty_q16_ == 65535 || duty_q16_ == 0 ? duty_q16_ : steady_q16;
   return Output{reference_q8_, duty_q16};
 }
 

@@ -15,7 +15,17 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
   hal::step_marker::begin();
   temp_q8_ = sensor::adc_q6_to_temp_q8(adc_q6);
   Fault fault = guard_.update(adc_q6, temp_q8_);
-  if (fault == Fault::kNone && !guard_.reading_bad()) fault = watch_.update(heater_.target_q8(), temp_q8_, heater_.duty_q16());
+  if (fault == Fault::kNone && !guard_.reading_bad()) {
+    fault = watch_.update(heater_.target_q8(), temp_q8_, heater_.duty_q16());
+    // The model check sees the duty that ran (M303's too) and runs with the heater off as well:
+    // a heater stuck on is found with no target set.
+    const control::ModelCheck::Verdict verdict = check_.step(temp_q8_, heater_.duty_q16(), hal::fan_pwm::duty());
+    if (verdict == control::ModelCheck::Verdict::kHeatsTooMuch) {
+      fault = Fault::kStuckOn;
+    } else if (verdict == control::ModelCheck::Verdict::kHeatsTooLittle && fault == Fault::kNone) {
+      fault = watch_.reached() ? Fault::kModelRunaway : Fault::kModelHeatingFailed;
+    }
+  }
   bool newly_latched = false;
   uint16_t duty_q16;
   if (fault != Fault::kNone) {
@@ -36,7 +46,31 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
 
   // The watchdog is kicked here and only here: if control periods stop, the board resets.
   hal::watchdog::kick();
-  if (newly_latched) out_.error_line(fault_message(fault));  // the watch resets itself: target is 0
+  if (newly_latched) {  // the watch resets itself: target is 0
+    out_.error_line(fault_message(fault));
+    const gcode::FlashText* reason = fault_reason(fault);
+    if (reason != nullptr) out_.error_line(reason);
+  }
+}
+
+void ControlLoop::sync_protection(const Settings& s) {
+  const uint8_t threshold_c = s.model_tuned ? s.protect_tuned_c : s.protect_default_c;
+  watch_.set_window_periods(static_cast<uint16_t>(uint32_t{s.watch_period_s} * 1000u / kControlPeriodMs));
+  const control::HotendModel& m = s.model;
+  if (check_tuned_ == s.model_tuned && check_threshold_c_ == threshold_c && m.rise_q8 == check_model_.rise_q8 &&
+      m.time_constant_q8 == check_model_.time_constant_q8 && m.dead_time_q8 == check_model_.dead_time_q8 &&
+      m.fan_loss_pct_q8 == check_model_.fan_loss_pct_q8) {
+    return;
+  }
+  check_.configure(m, s.model_tuned != 0, int32_t{threshold_c} << 8, kControlPeriodMs);
+  check_model_ = m;
+  check_tuned_ = s.model_tuned;
+  check_threshold_c_ = threshold_c;
+}
+
+void ControlLoop::restart_protection() {
+  check_.reset();
+  watch_.reset();
 }
 
 }  // namespace firmware

@@ -193,6 +193,7 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   }
   Settings next = bank_.settings();
   next.model = d.model;
+  next.model_tuned = 1;  // the protection's model check may now be tight
   next.pid = d.pid;
   next.controller = static_cast<uint8_t>(use_sf ? ControllerId::kStateFeedback : ControllerId::kPid);
   next.feedforward = 1;

@@ -22,7 +22,19 @@ Settings default_settings() {
   s.fuzzy_spread_pct = control::kDefaultFuzzySpreadPct;
   s.fuzzy_e_factor_q12 = control::kSeedEFactorQ12;
   s.fuzzy_ec_factor_q12 = control::kSeedEcFactorQ12;
+  // Protection (issue 8, docs/protection.md): thresholds that passed every plant of the
+  // simulator's bank without a false trip, with margin.
+  s.model_tuned = 0;
+  s.protect_tuned_c = 3;
+  s.protect_default_c = 15;
+  s.watch_period_s = 120;
   return s;
+}
+
+bool protection_valid(const Settings& s) {
+  return s.model_tuned <= 1 && s.protect_tuned_c >= kProtectMinC && s.protect_tuned_c <= kProtectMaxC &&
+         s.protect_default_c >= kProtectMinC && s.protect_default_c <= kProtectMaxC &&
+         s.watch_period_s >= kWatchMinPeriodS && s.watch_period_s <= kWatchMaxPeriodS;
 }
 
 control::FuzzyPidConfig fuzzy_config(const Settings& s) {

@@ -35,6 +35,7 @@ void HotendMachine::load_settings_at_boot() {
   } else {
     out_.write_flash(GCODE_TEXT("echo:EEPROM invalid (blank or corrupt), defaults loaded\n"));
   }
+  loop_.sync_protection(bank_.settings());  // before the first control period
 }
 
 gcode::HeaterStatus HotendMachine::heater_status() {
@@ -66,6 +67,7 @@ bool HotendMachine::handle_command(const gcode::Command& cmd, gcode::Output& out
 }
 
 void HotendMachine::background(gcode::Output& out) {
+  loop_.sync_protection(bank_.settings());  // M307, M303 U1, M501/M502, M570 reach the protection here
   if (!tune_.busy()) return;
   // The tune has ended once report() says so: the heater is off, the controllers take over
   // only from the next target (HandOver: not heating).
@@ -119,6 +121,7 @@ const gcode::FlashText* HotendMachine::clear_fault() {
                                                     : GCODE_TEXT("M999 refused: MAXTEMP condition persists");
   }
   heater_.clear_fault();
+  loop_.restart_protection();
   out_.write_flash(GCODE_TEXT("echo:Fault cleared, heater off until a new target\n"));
   return nullptr;
 }

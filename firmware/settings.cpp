@@ -7,8 +7,8 @@ namespace {
 
 constexpr uint16_t kMagic = 0x4854;  // "HT" (hotend)
 // Bump when SettingsBlock changes: old blocks then read invalid. 2: issue 3 (model, controller
-// choice, fuzzy configuration, state-feedback constants).
-constexpr uint8_t kLayoutVersion = 2;
+// choice, fuzzy configuration, state-feedback constants). 3: issue 8 (model_tuned, M570).
+constexpr uint8_t kLayoutVersion = 3;
 constexpr uint16_t kEepromAddress = 0;
 
 struct Header {

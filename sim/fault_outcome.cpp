@@ -13,6 +13,13 @@ const char* expected_error(FaultKind kind) {
       return "MAXTEMP";  // a shorted one as very hot
     case FaultKind::kM112:
       return "Emergency stop";
+    // Marlin's two wordings ("Heating failed, system stopped!", "Thermal Runaway, system
+    // stopped!") share this; MAXTEMP does not count: the model check should come first.
+    case FaultKind::kDetached:
+    case FaultKind::kHeaterDead:
+    case FaultKind::kStuckOn:
+    case FaultKind::kQuarterPower:
+      return "system stopped!";
     default:
       return "";
   }
@@ -37,7 +44,15 @@ FaultOutcome evaluate_fault(const FaultRecord& r, const std::vector<ReplyLine>& 
         starts_with(line.text, "Error:") && line.text.find(f.expected_error) != std::string::npos)
       f.error_line_s = line.t_s - r.fault_s;
     if (r.reset_s && line.t_s >= *r.reset_s && line.text == "start") f.restarted = true;
+    if (!f.first_error_s && line.t_s >= r.fault_s && starts_with(line.text, "Error:")) {
+      f.first_error_s = line.t_s - r.fault_s;
+      f.first_error = line.text;
+    }
   }
+  f.block_peak_c = r.block_peak_c;
+  f.sensor_min_before_error_c = r.true_c.empty() ? 0.0 : r.true_c.front().second;
+  for (const auto& [t, c] : r.true_c)
+    if (!f.error_line_s || t <= r.fault_s + *f.error_line_s) f.sensor_min_before_error_c = std::min(f.sensor_min_before_error_c, c);
   return f;
 }
 

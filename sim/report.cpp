@@ -21,6 +21,16 @@ const char* fault_name(FaultKind kind) {
       return "host sends M108";
     case FaultKind::kM112:
       return "host sends M112";
+    case FaultKind::kDetached:
+      return "thermistor detached";
+    case FaultKind::kHeaterDead:
+      return "heater dead";
+    case FaultKind::kStuckOn:
+      return "heater stuck on";
+    case FaultKind::kQuarterPower:
+      return "heater at a quarter power";
+    case FaultKind::kFanStuck:
+      return "part fan stuck at 100 %";
     case FaultKind::kNone:
       break;
   }
@@ -37,6 +47,11 @@ void print_fault(std::ostream& out, const RunResult& r) {
     out << "  Error:" << f.expected_error << "  "
         << (f.error_line_s ? "printed after " + format_fixed(*f.error_line_s, 3) + " s" : "NOT printed")
         << "\n";
+  if (is_plant_fault(r.config.fault))
+    out << "  first Error:     " << (f.first_error_s ? format_fixed(*f.first_error_s, 3) + " s: " + f.first_error : "none")
+        << "\n"
+        << "  block peak       " << format_fixed(f.block_peak_c, 1) << " °C after the fault\n"
+        << "  sensor-node min  " << format_fixed(f.sensor_min_before_error_c, 1) << " °C until the Error (true)\n";
   if (r.config.fault == FaultKind::kHang)
     out << "  watchdog reset   " << (f.reset_s ? format_fixed(*f.reset_s, 3) + " s after D0" : "NONE") << "\n"
         << "  start again      " << (f.restarted ? "yes" : "NO") << "\n"
@@ -206,7 +221,31 @@ std::vector<std::string> failed_checks(const RunResult& r, const CheckLimits& li
   require(r.fault.has_value(), "the fault was never injected");
   if (!r.fault) return failed;
   const FaultOutcome& f = *r.fault;
+  if (r.config.fault == FaultKind::kFanStuck) {  // the controller compensates: no trip
+    require(r.error_lines.empty(), "the firmware printed an Error: line with the fan stuck at 100 %");
+    return failed;
+  }
   require(!f.heater_on_at_end, "the heater is on at the end of the run");
+  if (is_plant_fault(r.config.fault)) {
+    const double target = r.config.target_c;
+    // Quarter power must be reported before the hotend falls 15 °C (below), not within a time.
+    const double detect_limit_s = r.config.fault == FaultKind::kQuarterPower ? r.config.seconds : limits.max_detect_s;
+    require(f.error_line_s && *f.error_line_s <= detect_limit_s,
+            "no `Error:..system stopped!` within " + format_fixed(detect_limit_s, 1) + " s of the fault (" +
+                format_optional(f.error_line_s, 3) + " s)");
+    if (f.error_line_s)
+      require(f.heater_last_on_s && *f.heater_last_on_s <= *f.error_line_s + limits.max_heater_off_s,
+              "heater still on " + format_optional(f.heater_last_on_s, 3) + " s after the fault");
+    if (r.config.fault != FaultKind::kStuckOn)  // stuck on heats whatever the firmware does
+      require(f.block_peak_c <= target + limits.max_block_above_c,
+              "block reached " + format_fixed(f.block_peak_c, 1) + " °C > target + " +
+                  format_fixed(limits.max_block_above_c, 0));
+    if (r.config.fault == FaultKind::kQuarterPower)
+      require(f.sensor_min_before_error_c >= target - 15.0,
+              "fell to " + format_fixed(f.sensor_min_before_error_c, 1) + " °C before the Error");
+    require(r.resets == 0, "the CPU was reset during the run");
+    return failed;
+  }
   if (r.config.fault == FaultKind::kHang) {
     require(f.reset_s.has_value(), "no watchdog reset after D0");
     require(f.restarted, "no `start` after the watchdog reset");

@@ -33,6 +33,9 @@ constexpr double kSetupTimeoutS = 30.0;
 constexpr double kTuneTimeoutS = 10800.0;  // M303 (its own limit: 30 min) plus the cool-down (seed000: ~80 min)
 constexpr double kM105PeriodS = 5.0;  // M155 reports every second; M105 is polled as well
 constexpr double kRunChunkS = 0.25;
+// A detached thermistor lying in air: first-order lag towards ambient. EPCOS's glass-bead NTCs
+// give ~10-20 s in still air; 15 s (our assumption, not measured).
+constexpr double kDetachedLagS = 15.0;
 
 std::string format_gains(const MarlinGains& g) {
   return "M301 P" + format_decimal(g.kp) + " I" + format_decimal(g.ki) + " D" + format_decimal(g.kd);
@@ -85,6 +88,14 @@ class Runner {
   double next_m105_s_ = 0.0;
   double target_sent_c_ = 0.0;
   std::optional<double> fault_abs_s_;
+  double detached_c_ = 0.0;  // the detached thermistor's own temperature
+  double block_peak_c_ = -1e9;
+  std::vector<std::pair<double, double>> true_after_fault_;
+  bool plant_fault_active() const { return fault_abs_s_ && is_plant_fault(config_.fault); }
+  // What the thermistor sees: the plant's sensor node, or its own temperature once detached.
+  double sensed_c() const {
+    return plant_fault_active() && config_.fault == FaultKind::kDetached ? detached_c_ : plant_.temperature_c();
+  }
   std::optional<double> reset_after_fault_s_;          // first CPU reset after the fault
   uint64_t heater_turn_ons_at_that_reset_ = 0;         // heater().turn_on_count() right after it
   std::deque<std::pair<double, double>> recent_true_;  // (t, true °C) over kReportLatencyS
@@ -116,7 +127,7 @@ Runner::Runner(const RunConfig& config)
                    [](const TimedCommand& a, const TimedCommand& b) { return *a.at_s < *b.at_s; });
 
   board_.set_adc_source(config.board.hotend_adc_channel, [this] {
-    const int code = adc_.sample_code(plant_.temperature_c());
+    const int code = adc_.sample_code(sensed_c());
     code_sum_ += code;
     ++code_count_;
     return simavr_mv_for_code(code, board_.adc_ref_mv());
@@ -139,9 +150,18 @@ Runner::Runner(const RunConfig& config)
 void Runner::on_plant_step() {
   const uint64_t now_cycle = board_.cycle();
   const double now = board_.time_s();
-  const double heater = board_.heater().take_duty(now_cycle);
-  const double fan = board_.fan().take_duty(now_cycle);
+  double heater = board_.heater().take_duty(now_cycle);
+  double fan = board_.fan().take_duty(now_cycle);
+  if (plant_fault_active()) {
+    if (config_.fault == FaultKind::kHeaterDead) heater = 0.0;
+    if (config_.fault == FaultKind::kStuckOn) heater = 1.0;
+    if (config_.fault == FaultKind::kQuarterPower) heater *= 0.25;
+    if (config_.fault == FaultKind::kFanStuck) fan = 1.0;
+    if (config_.fault == FaultKind::kDetached)
+      detached_c_ += (config_.plant.ambient_c - detached_c_) * (kPlantStepS / kDetachedLagS);
+  }
   plant_.step(PlantInput{heater, fan});
+  if (fault_abs_s_) block_peak_c_ = std::max(block_peak_c_, plant_.block_temperature_c());
 
   const double true_c = plant_.temperature_c();
   if (result_.tune && !result_.tune->end_s) result_.tune->max_true_c = std::max(result_.tune->max_true_c, true_c);
@@ -190,6 +210,7 @@ void Runner::send_due_commands(double now_s) {
 
 void Runner::inject_fault(double now_s) {
   fault_abs_s_ = now_s;
+  detached_c_ = plant_.temperature_c();
   if (config_.fault == FaultKind::kOpen) adc_.set_fault(SensorFault::kOpen);
   if (config_.fault == FaultKind::kShort) adc_.set_fault(SensorFault::kShorted);
   if (config_.fault == FaultKind::kHang) session_.send("D0");
@@ -312,6 +333,7 @@ void Runner::record_trace(double now_s) {
   TraceSample s;
   s.t_s = now_s;
   s.true_c = true_sum_ / trace_steps_;
+  if (fault_abs_s_) true_after_fault_.emplace_back(now_s, s.true_c);
   s.true_ripple_c = true_max_ - true_min_;
   s.sensor_c = code_count_ ? adc_.temperature_for_code(code_sum_ / code_count_)
                            : std::numeric_limits<double>::quiet_NaN();
@@ -394,6 +416,8 @@ void Runner::evaluate_fault_outcome() {
     record.heater_last_change_s = double(heater.last_change_cycle()) / board_.frequency_hz();
     record.reset_s = reset_after_fault_s_;
     record.heater_turned_on_after_reset = heater.turn_on_count() > heater_turn_ons_at_that_reset_;
+    record.block_peak_c = block_peak_c_;
+    record.true_c = true_after_fault_;
     result_.fault = evaluate_fault(record, session_.lines());
   }
 }

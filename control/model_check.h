@@ -7,9 +7,12 @@
 //              for the whole dead-time window (heater stuck on) -> kHeatsTooMuch
 // Per period, with h = period, u_lo/u_hi = min/max duty over the dead-time window, T the reading:
 //   lower = h/C · (A·(1−g)·u_lo − (1+l)·(1 + F/100·fan)·(T − 18 °C))     tuned model
+//           (fan: its highest duty over delays 0 .. the window's end: its loss reaches the
+//           sensor through the same lags as the heater's power)
 //   upper = h/C · (A·(1+g)·u_hi − (1−l)·(T − 35 °C))                      (fan ignored: it only cools)
 //   E_lo = min(0, E_lo·(1 − h/τ) + ΔT − lower),  E_hi = max(0, E_hi·(1 − h/τ) + ΔT − upper)
-// g = 15 %, l = 10 % (a reasonable tune's error), ambient anywhere in 18..35 °C, τ = 60 s,
+//   trip: E_lo < −threshold, E_hi > 2·threshold (M570 T, or U for the default model)
+// g = 15 %, l = 10 % (a reasonable tune's error), ambient anywhere in 18..35 °C, τ = 512 periods,
 // window = delays 3D/4 .. 5D/4 + 1 s (the model's dead time ± a quarter, plus a sensor lag).
 // A model that is only the firmware's default says little about this hotend: then the low side
 // only requires that a heater driven ≥ 50 % over the whole window does not let the reading fall
@@ -25,7 +28,7 @@ namespace control {
 class ModelCheck {
  public:
   enum class Verdict : uint8_t { kOk, kHeatsTooLittle, kHeatsTooMuch };
-  static constexpr uint8_t kBins = 16;  // duty history: min/max per bin, 32 B of RAM
+  static constexpr uint8_t kBins = 16;  // duty history: min/max per bin + fan max, 48 B of RAM
 
   constexpr ModelCheck() = default;
 
@@ -37,7 +40,7 @@ class ModelCheck {
   // counts as both 0 % and 100 %, so nothing is concluded until one window has passed.
   void reset();
   // One control period: the plausible reading at its end, the heater duty that ran in it
-  // (65535 = 100 %, M303's too), the part fan (0..255). ~400 AVR cycles.
+  // (65535 = 100 %, M303's too), the part fan (0..255).
   Verdict step(int32_t temp_q8, uint16_t duty_q16, uint8_t fan_duty);
 
   // Evidence so far, °C × 65536 (E_lo ≤ 0 ≤ E_hi): for tests and reports.
@@ -55,7 +58,6 @@ class ModelCheck {
   uint16_t fan_slope_q16_ = 0; // (1+l)·F/100 per fan unit, × 65536 / 16 (Q12 after >> 4)
   uint16_t rate_mantissa_ = 0; // h/C, normalised to 2^15..2^16−1
   int8_t rate_shift_ = 0;      // bound_q16 = mul_q16(net_q8, mantissa) << shift (>> −shift)
-  uint16_t leak_q16_ = 0;      // h/τ
   uint32_t allow_fall_q16_ = 0;  // default model: per period, °C × 65536
   uint32_t allow_rise_q16_ = 0;
   bool tuned_ = false;
@@ -67,8 +69,10 @@ class ModelCheck {
   uint16_t in_bin_ = 0;        // periods in the running bin
   uint8_t min_[kBins] = {};
   uint8_t max_[kBins] = {};
+  uint8_t fan_max_[kBins] = {};  // the part fan's highest duty per bin
   uint8_t window_min_ = 0;     // over the closed bins of the window
   uint8_t window_max_ = 255;
+  uint8_t window_fan_ = 255;   // the fan's highest over every closed bin (delays 0 .. window end)
   // Evidence.
   int32_t last_temp_q8_ = 0;
   bool have_last_ = false;

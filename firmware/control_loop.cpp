@@ -13,19 +13,12 @@ namespace firmware {
 // cycles (ATmega2560, simavr), for ~40 bytes of flash.
 __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
   hal::step_marker::begin();
+  const uint16_t ran_q16 = heater_.duty_q16();  // the duty of the period that just ended
+  const uint8_t fan_ran = hal::fan_pwm::duty();
   temp_q8_ = sensor::adc_q6_to_temp_q8(adc_q6);
   Fault fault = guard_.update(adc_q6, temp_q8_);
-  if (fault == Fault::kNone && !guard_.reading_bad()) {
-    fault = watch_.update(heater_.target_q8(), temp_q8_, heater_.duty_q16());
-    // The model check sees the duty that ran (M303's too) and runs with the heater off as well:
-    // a heater stuck on is found with no target set.
-    const control::ModelCheck::Verdict verdict = check_.step(temp_q8_, heater_.duty_q16(), hal::fan_pwm::duty());
-    if (verdict == control::ModelCheck::Verdict::kHeatsTooMuch) {
-      fault = Fault::kStuckOn;
-    } else if (verdict == control::ModelCheck::Verdict::kHeatsTooLittle && fault == Fault::kNone) {
-      fault = watch_.reached() ? Fault::kModelRunaway : Fault::kModelHeatingFailed;
-    }
-  }
+  const bool plausible = fault == Fault::kNone && !guard_.reading_bad();
+  if (plausible) fault = watch_.update(heater_.target_q8(), temp_q8_, ran_q16);
   bool newly_latched = false;
   uint16_t duty_q16;
   if (fault != Fault::kNone) {
@@ -46,6 +39,22 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
 
   // The watchdog is kicked here and only here: if control periods stop, the board resets.
   hal::watchdog::kick();
+  // The model check runs after the duty is out (outside the timed step: ~700 AVR cycles would
+  // take the state-feedback step past its 3,000-cycle budget); a fault it finds switches the
+  // heater off in this same period. It sees the duty that ran (M303's too) and runs with the
+  // heater off as well: a heater stuck on is found with no target set.
+  if (plausible && !newly_latched) {
+    const control::ModelCheck::Verdict verdict = check_.step(temp_q8_, ran_q16, fan_ran);
+    if (verdict == control::ModelCheck::Verdict::kHeatsTooMuch) {
+      fault = Fault::kStuckOn;
+    } else if (verdict == control::ModelCheck::Verdict::kHeatsTooLittle) {
+      fault = watch_.reached() ? Fault::kModelRunaway : Fault::kModelHeatingFailed;
+    }
+    if (fault != Fault::kNone) {
+      newly_latched = heater_.trip(fault);
+      tune_.stop(AutotuneJob::Stop::kFault);
+    }
+  }
   if (newly_latched) {  // the watch resets itself: target is 0
     out_.error_line(fault_message(fault));
     const gcode::FlashText* reason = fault_reason(fault);

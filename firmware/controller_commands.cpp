@@ -94,9 +94,6 @@ void ControllerCommands::select(const gcode::Command& cmd, gcode::Output& out, c
   }
   out.print(GCODE_TEXT("echo:"));
   write_selection(out);
-  out.print(GCODE_TEXT("echo:; Heater protection (M570 T model check degC, U with the default model degC, P watch window s):\n"
-                       "echo:  "));
-  write_protection(out);
 }
 
 void ControllerCommands::upload(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
@@ -200,6 +197,9 @@ void ControllerCommands::report(gcode::Output& out) {
   out.print(GCODE_TEXT("echo:; Controller (M310 S0 PID, S1 state feedback, S2 fuzzy-PID, S3 Marlin PID; F1 model feedforward):\n"
                        "echo:  "));
   write_selection(out);
+  out.print(GCODE_TEXT("echo:; Heater protection (M570 T model check degC, U with the default model degC, P watch window s):\n"
+                       "echo:  "));
+  write_protection(out);
 }
 
 void ControllerCommands::write_model(gcode::Output& out) const { write_m307(out, bank_.settings().model); }

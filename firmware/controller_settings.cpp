@@ -25,7 +25,7 @@ Settings default_settings() {
   // Protection (issue 8, docs/protection.md): thresholds that passed every plant of the
   // simulator's bank without a false trip, with margin.
   s.model_tuned = 0;
-  s.protect_tuned_c = 3;
+  s.protect_tuned_c = 2;
   s.protect_default_c = 15;
   s.watch_period_s = 120;
   return s;

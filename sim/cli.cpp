@@ -12,6 +12,7 @@
 #include "sim/cli_args.h"
 #include "sim/tune_plot.h"
 #include "sim/default_gains.h"
+#include "sim/print_like.h"
 #include "sim/plant_model.h"
 #include "sim/report.h"
 #include "sim/run_setup.h"
@@ -53,6 +54,8 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the cont
   by --gains-rule (simc = SIMC PI with τc = 2τ; also simc-tight, amigo, cohen-coon, zn-step on
   that fit, and zn-relay: M303's relay experiment with classic Ziegler–Nichols; see `list`),
   ELF from this build's firmware directory. --gains/--gains-rule override a controller's gains.
+  --print-like (issue 8): M303 at the start, then targets 190–250 °C every 2–5 min and the part
+  fan 0–100 % every 30–120 s for --seconds (drawn from --seed); --check wants no Error: line.
   --fault: thermistor open/short or a D0 hang T s after t0; the run ends 5 s after it. Plant
   faults (issue 8): detached (thermistor out of the block, cools in air), heater-dead, stuck-on,
   quarter-power, fan-stuck; the run ends 60 s after it; --check wants `Error:…system stopped!`
@@ -85,11 +88,15 @@ bench: every controller × board × plant (or the given ones) in parallel, heati
   controller on the first board. --autotune (or "autotune" in --controllers): M303 U1 first, then
   the tuned controller's heat-up and fan step, beside pid+ff from the plant's own model and
   marlin-zn (Marlin's M303); adds the tune's duration, maximum above S and the model found.
+  --faults (issue 8): fault × plant × board detection table instead: each fault (--fault-kinds,
+  default detached,heater-dead,stuck-on,quarter-power) at the target (--fault-at hold) or halfway
+  through the heat-up (--fault-at half), with the plant's M307 set (--untuned: the default model),
+  --tail s after the fault (60): Error after, heater off, block peak, lowest sensor-node reading.
 plot: temperature and heater duty of several --csv runs against time in one SVG.
 )";
 
 int run_command(const std::vector<std::string>& args) {
-  const Options o = parse_options(args, {"check", "quiet", "autotune"});
+  const Options o = parse_options(args, {"check", "quiet", "autotune", "print-like"});
   reject_unknown(o, {"board", "plant", "controller", "target", "seconds", "csv", "noise-lsb", "seed", "gains",
                      "gains-rule", "gcode", "elf", "fault", "max-detect", "max-block-above", "transcript", "max-overshoot", "max-steady-error",
                      "max-report-error", "max-steady-p2p", "max-recovery", "max-recovery-ratio",
@@ -108,13 +115,18 @@ int run_command(const std::vector<std::string>& args) {
   c.csv_path = o.get("csv");
   c.elf_path = o.has("elf") ? o.get("elf") : default_elf_path(HOTEND_SIM_FIRMWARE_DIR, c.board);
   apply_common(o, c, o.get("controller"));
-  if (o.has("autotune")) {
+  if (o.has("print-like")) {  // M303 first (unless a controller is given), then a print's targets and fan
+    c.print_like = true;
+    for (const TimedCommand& t : print_like_gcode(c.seconds, c.seed)) c.gcode.push_back(t);
+  }
+  if (o.has("autotune") || (o.has("print-like") && !o.has("controller"))) {
     if (o.has("controller")) throw std::invalid_argument("--autotune sets the controller itself (M303 U1)");
     AutotuneConfig a;
     a.cycles = static_cast<int>(parse_number(o.get("tune-cycles", "5"), "--tune-cycles"));
     a.fan = parse_number(o.get("tune-fan", "1"), "--tune-fan") != 0;
     if (o.has("tune-from")) a.hot_start_c = parse_number(o.get("tune-from"), "--tune-from");
     for (const TimedCommand& t : parse_gcode(o.get("after-tune"))) a.after.push_back(t.line);
+    if (c.print_like) a.cool_to_fraction = 1.0;  // the print starts when the tune ends
     c.autotune = a;
     if (!o.has("gains")) {  // the tune designs them
       c.gains.reset();

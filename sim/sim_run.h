@@ -79,6 +79,7 @@ struct RunConfig {
   bool fault_in_tune = false;
   std::string csv_path;
   std::optional<AutotuneConfig> autotune;
+  bool print_like = false;  // --print-like: the check is only "nothing tripped" (sim/print_like.h)
 };
 
 struct RunResult {

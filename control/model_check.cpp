@@ -11,6 +11,7 @@ constexpr int32_t kLossLowQ12 = 4506;          // 1 + l = 1.1
 constexpr int32_t kLossHighQ12 = 3686;         // 1 − l = 0.9
 constexpr uint8_t kDrivenDuty = 128;           // default model: "driven" = ≥ 50 % over the window
 constexpr uint8_t kOffDuty = 5;                // default model: "off" = ≤ 2 % over the window
+constexpr uint8_t kPersistPeriods = 4;         // 0.5 s: longer than the range guard's 3 readings
 constexpr uint8_t kLeakShift = 9;              // evidence forgets with τ = 512 periods (65.5 s at 128 ms)
 
 }  // namespace
@@ -37,8 +38,8 @@ void ModelCheck::configure(const HotendModel& model, bool tuned, int32_t thresho
   const uint32_t dead = fixed::mul_div_u32(uint32_t(model.dead_time_q8), 1000u, 256u * period_ms);
   uint32_t first, last;
   if (tuned) {
-    first = dead * 3 / 4;
-    last = dead * 5 / 4 + 1000u / period_ms;
+    first = dead / 2;
+    last = dead * 2 + 1000u / period_ms;
   } else {
     first = 0;
     last = dead * 3 + 30000u / period_ms;
@@ -63,6 +64,7 @@ void ModelCheck::reset() {
   have_last_ = false;
   low_q16_ = 0;
   high_q16_ = 0;
+  persist_ = 0;
 }
 
 void ModelCheck::close_bin() {
@@ -138,9 +140,13 @@ ModelCheck::Verdict ModelCheck::step(int32_t temp_q8, uint16_t duty_q16, uint8_t
   if (high_q16_ < 0) high_q16_ = 0;
   // The high side gets twice the threshold: a sensor behind a lag (not a dead time) keeps rising
   // after the window once the heater is off (two-node hotend80w: 2.4 °C of evidence, host test).
-  if (high_q16_ > 2 * threshold_q16_) return Verdict::kHeatsTooMuch;
-  if (low_q16_ < -threshold_q16_) return Verdict::kHeatsTooLittle;
-  return Verdict::kOk;
+  Verdict verdict = Verdict::kOk;
+  if (low_q16_ < -threshold_q16_) verdict = Verdict::kHeatsTooLittle;
+  if (high_q16_ > 2 * threshold_q16_) verdict = Verdict::kHeatsTooMuch;
+  // Over the threshold for kPersistPeriods in a row: a thermistor that opens or shorts jumps in
+  // one period and must be reported by the range guard (MINTEMP/MAXTEMP, 3 readings) instead.
+  persist_ = verdict == Verdict::kOk ? 0 : (persist_ < kPersistPeriods ? persist_ + 1 : persist_);
+  return persist_ >= kPersistPeriods ? verdict : Verdict::kOk;
 }
 
 }  // namespace control

@@ -11,9 +11,12 @@
 //           sensor through the same lags as the heater's power)
 //   upper = h/C · (A·(1+g)·u_hi − (1−l)·(T − 35 °C))                      (fan ignored: it only cools)
 //   E_lo = min(0, E_lo·(1 − h/τ) + ΔT − lower),  E_hi = max(0, E_hi·(1 − h/τ) + ΔT − upper)
-//   trip: E_lo < −threshold, E_hi > 2·threshold (M570 T, or U for the default model)
+//   trip: E_lo < −threshold, E_hi > 2·threshold (M570 T, or U for the default model), for 4
+//   periods in a row (an opening or shorting thermistor is the range guard's: MINTEMP/MAXTEMP)
 // g = 15 %, l = 10 % (a reasonable tune's error), ambient anywhere in 18..35 °C, τ = 512 periods,
-// window = delays 3D/4 .. 5D/4 + 1 s (the model's dead time ± a quarter, plus a sensor lag).
+// window = delays D/2 .. 2D + 1 s (the FOPDT's dead time stands for lags: a second-order plant
+// keeps rising after the heater is off, and reaches full slope later than D; 3D/4 .. 5D/4 + 1 s
+// left 27 °C of evidence on seed003, host test).
 // A model that is only the firmware's default says little about this hotend: then the low side
 // only requires that a heater driven ≥ 50 % over the whole window does not let the reading fall
 // faster than 0.25 °C/s, and the high side that a heater off over the whole window (delays
@@ -78,6 +81,7 @@ class ModelCheck {
   bool have_last_ = false;
   int32_t low_q16_ = 0;
   int32_t high_q16_ = 0;
+  uint8_t persist_ = 0;  // consecutive periods over a threshold
 };
 
 }  // namespace control

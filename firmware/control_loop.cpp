@@ -53,6 +53,9 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
     if (fault != Fault::kNone) {
       newly_latched = heater_.trip(fault);
       tune_.stop(AutotuneJob::Stop::kFault);
+      // A heater stuck on cannot be switched off: say so even when another fault is latched.
+      if (fault == Fault::kStuckOn && !stuck_reported_) newly_latched = true;
+      if (fault == Fault::kStuckOn) stuck_reported_ = true;
     }
   }
   if (newly_latched) {  // the watch resets itself: target is 0
@@ -78,6 +81,7 @@ void ControlLoop::sync_protection(const Settings& s) {
 }
 
 void ControlLoop::restart_protection() {
+  stuck_reported_ = false;
   check_.reset();
   watch_.reset();
 }

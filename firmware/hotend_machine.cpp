@@ -56,9 +56,9 @@ bool HotendMachine::handle_command(const gcode::Command& cmd, gcode::Output& out
     if (tune_.begin(cmd, out, refusal, hal::fan_pwm::duty())) heater_.set_target_q8(tune_.target_q8());
     return true;
   }
-  // M307/M310/M311/M312 with parameters change the controllers; bare, they only report.
-  const bool changes = cmd.letter == 'M' && cmd.code >= 307 && cmd.code <= 312 && cmd.params != nullptr &&
-                       *cmd.params != '\0';
+  // M307/M310/M311/M312/M570 with parameters change the settings; bare, they only report.
+  const bool changes = cmd.letter == 'M' && ((cmd.code >= 307 && cmd.code <= 312) || cmd.code == 570) &&
+                       cmd.params != nullptr && *cmd.params != '\0';
   if (changes && tune_.busy()) {
     out.error_line(busy_tuning());
     return true;

@@ -45,7 +45,7 @@ TEST(ThermalWatch, NearTheTargetAFallAtHighDutyTrips) {
   ThermalWatch w;
   w.set_window_periods(kWindow);
   EXPECT_EQ(run(w, C(60), 60, 59, 20), Fault::kNone);  // reached
-  EXPECT_EQ(run(w, C(60), 59, 45, 200), Fault::kRunaway);  // > 10 °C in a window at full duty
+  EXPECT_EQ(run(w, C(60), 59, 30, 200), Fault::kRunaway);  // > 10 °C in a window at full duty
   ThermalWatch small;  // up to 10 °C is tolerated (fan steps on slow hotends): the model check's job
   small.set_window_periods(kWindow);
   EXPECT_EQ(run(small, C(60), 60, 51, 200), Fault::kNone);

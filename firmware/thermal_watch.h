@@ -4,8 +4,9 @@
 // (a period below restarts it: M303's baseline, cool-downs and dead-time waits hold the heater
 // off for minutes on slow hotends, and then no rise can be required). At the window's end:
 //   - far (> 10 °C) below the target when it began: the reading must have risen ≥ 2 °C;
-//   - otherwise (near the target, any target): it must not have fallen more than 10 °C (3 °C
-//     tripped hotend-sim's print-like run on fopdt-delay25: fan steps with a 25 s dead time).
+//   - otherwise (near the target, any target): it must not have fallen more than 10 °C to end
+//     more than 10 °C below the target (3 °C, or any 10 °C fall, tripped hotend-sim's print-like
+//     runs on fopdt-delay25 and seed002: part-fan dips on hotends with a 20–25 s dead time).
 // A new target keeps the running window. Marlin uses the same idea (WATCH_TEMP_PERIOD /
 // INCREASE, THERMAL_PROTECTION_*) with 20 s / 2 °C for heating. The window defaults to 120 s
 // (M570 P) because the simulator's seed000 models first dip (non-minimum phase) and rise only

@@ -39,8 +39,8 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
 
   // The watchdog is kicked here and only here: if control periods stop, the board resets.
   hal::watchdog::kick();
-  // The model check runs after the duty is out (outside the timed step: ~700 AVR cycles would
-  // take the state-feedback step past its 3,000-cycle budget); a fault it finds switches the
+  // The model check runs after the duty is out, outside the timed step: inside it measured
+  // +1,220 cycles mean, +1,600 max (pid+ff, ATmega2560, simavr) — past the 3,000-cycle budget; a fault it finds switches the
   // heater off in this same period. It sees the duty that ran (M303's too) and runs with the
   // heater off as well: a heater stuck on is found with no target set.
   if (plausible && !newly_latched) {

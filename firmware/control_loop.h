@@ -4,7 +4,9 @@
 #pragma once
 #include <stdint.h>
 
+#include "control/model_check.h"
 #include "firmware/controller_autotune.h"
+#include "firmware/controller_settings.h"
 #include "firmware/gcode_output.h"
 #include "firmware/heater_manager.h"
 #include "firmware/range_guard.h"
@@ -24,6 +26,12 @@ class ControlLoop {
   // The cause of a MINTEMP/MAXTEMP fault is still present (M999 must refuse).
   bool reading_bad() const { return guard_.reading_bad(); }
   Fault reading_fault() const { return guard_.last(); }
+  // The protection follows the settings in force: the model check is reconfigured (set-up code,
+  // two long divisions: call from the main loop, not the step) when the model, its origin or
+  // M570 changed. Cheap when nothing changed.
+  void sync_protection(const Settings& s);
+  // M999: the model check and the watch start over.
+  void restart_protection();
 
  private:
   HeaterManager& heater_;
@@ -31,6 +39,11 @@ class ControlLoop {
   gcode::Output& out_;
   RangeGuard guard_;
   ThermalWatch watch_;
+  control::ModelCheck check_;
+  control::HotendModel check_model_{0, 0, 0, 0};  // what check_ was configured with
+  uint8_t check_tuned_ = 0xFF;                    // 0xFF: never configured
+  uint8_t check_threshold_c_ = 0;
+  bool stuck_reported_ = false;  // kStuckOn printed (it is printed even over another latched fault)
   int32_t temp_q8_ = 0;
 };
 

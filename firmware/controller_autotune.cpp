@@ -193,6 +193,10 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   }
   Settings next = bank_.settings();
   next.model = d.model;
+  // The protection's model check may now be tight, unless the tune started hot: its loss and
+  // time constant then come from a short decay (fopdt-fast after M109 S200: C 39 s for 30 s),
+  // and the tight check tripped on the next heat-up. Such a model keeps the default's margin.
+  next.model_tuned = r.hot_start ? 0 : 1;
   next.pid = d.pid;
   next.controller = static_cast<uint8_t>(use_sf ? ControllerId::kStateFeedback : ControllerId::kPid);
   next.feedforward = 1;

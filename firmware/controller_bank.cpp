@@ -36,6 +36,7 @@ const gcode::FlashText* ControllerBank::refusal(const Settings& next, bool sf_av
       return GCODE_TEXT("fuzzy-PID schedule (M301 x (1 + M312 S/100)) beyond what the fixed-point PID holds");
   }
   if (!control::hotend_model_valid(next.model)) return GCODE_TEXT("M307 model out of range");
+  if (!protection_valid(next)) return GCODE_TEXT("M570 values out of range");
   if (next.controller >= kControllerCount || next.feedforward > 1) return GCODE_TEXT("M310 S or F out of range");
   if (next.controller == static_cast<uint8_t>(ControllerId::kStateFeedback) && !sf_available)
     return GCODE_TEXT("M310 S1 needs state-feedback constants (M311 ... W1)");

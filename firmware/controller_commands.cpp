@@ -43,9 +43,12 @@ bool has_any(const gcode::Command& cmd, char first, char last) {
 }  // namespace
 
 bool ControllerCommands::handle(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
-  if (cmd.letter != 'M' || cmd.code < 307 || cmd.code > 312 || cmd.code == 308 || cmd.code == 309) return false;
+  const bool ours = cmd.letter == 'M' && ((cmd.code >= 307 && cmd.code <= 312 && cmd.code != 308 && cmd.code != 309) ||
+                                          cmd.code == 570);
+  if (!ours) return false;
   if (!cmd.valid(out)) return true;
   switch (cmd.code) {
+    case 570: protection(cmd, out, now); break;
     case 307: model(cmd, out, now); break;
     case 310: select(cmd, out, now); break;
     case 311: upload(cmd, out, now); break;
@@ -63,7 +66,10 @@ void ControllerCommands::model(const gcode::Command& cmd, gcode::Output& out, co
       !cmd.fixed('F', 8, 0, control::kModelMaxFanLossPctQ8, &m.fan_loss_pct_q8, out)) {
     return;
   }
-  if (cmd.has('A') || has_any(cmd, 'C', 'D') || cmd.has('F')) return write_refusal(out, bank_.apply(next, now));
+  if (cmd.has('A') || has_any(cmd, 'C', 'D') || cmd.has('F')) {
+    next.model_tuned = 1;  // the host vouches for it: the model check gets tight (M570 T)
+    return write_refusal(out, bank_.apply(next, now));
+  }
   out.print(GCODE_TEXT("echo:"));
   write_model(out);
 }
@@ -151,6 +157,37 @@ void ControllerCommands::sync_staging() {
   }
 }
 
+// M570 T<°C> U<°C> P<s>: the protection's thresholds (RepRapFirmware's M570 and Prusa's M310
+// set heater-fault detection; the letters here are our own). All checked before any applies.
+void ControllerCommands::protection(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
+  Settings next = bank_.settings();
+  int32_t tuned = next.protect_tuned_c, fallback = next.protect_default_c, period = next.watch_period_s;
+  if (!cmd.integer('T', kProtectMinC, kProtectMaxC, &tuned, out) ||
+      !cmd.integer('U', kProtectMinC, kProtectMaxC, &fallback, out) ||
+      !cmd.integer('P', kWatchMinPeriodS, kWatchMaxPeriodS, &period, out)) {
+    return;
+  }
+  if (cmd.has('T') || cmd.has('U') || cmd.has('P')) {
+    next.protect_tuned_c = static_cast<uint8_t>(tuned);
+    next.protect_default_c = static_cast<uint8_t>(fallback);
+    next.watch_period_s = static_cast<uint16_t>(period);
+    return write_refusal(out, bank_.apply(next, now));
+  }
+  out.print(GCODE_TEXT("echo:"));
+  write_protection(out);
+}
+
+void ControllerCommands::write_protection(gcode::Output& out) const {
+  const Settings& s = bank_.settings();
+  out.print(GCODE_TEXT("M570 T"));
+  out.write_int(s.protect_tuned_c);
+  out.print(GCODE_TEXT(" U"));
+  out.write_int(s.protect_default_c);
+  out.print(GCODE_TEXT(" P"));
+  out.write_int(s.watch_period_s);
+  out.print(s.model_tuned ? GCODE_TEXT(" ; model: tuned (M303/M307)\n") : GCODE_TEXT(" ; model: default\n"));
+}
+
 void ControllerCommands::report(gcode::Output& out) {
   out.print(GCODE_TEXT("echo:; Hotend model (M307 A rise at 100 % degC, C time constant s, D dead time s, F fan loss %):\n"
                        "echo:  "));
@@ -162,6 +199,9 @@ void ControllerCommands::report(gcode::Output& out) {
   out.print(GCODE_TEXT("echo:; Controller (M310 S0 PID, S1 state feedback, S2 fuzzy-PID, S3 Marlin PID; F1 model feedforward):\n"
                        "echo:  "));
   write_selection(out);
+  out.print(GCODE_TEXT("echo:; Heater protection (M570 T model check degC, U with the default model degC, P watch window s):\n"
+                       "echo:  "));
+  write_protection(out);
 }
 
 void ControllerCommands::write_model(gcode::Output& out) const { write_m307(out, bank_.settings().model); }

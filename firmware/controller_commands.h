@@ -36,6 +36,8 @@ class ControllerCommands {
   void upload(const gcode::Command& cmd, gcode::Output& out, const HandOver& now);    // M311
   void fuzzy(const gcode::Command& cmd, gcode::Output& out, const HandOver& now);     // M312
   void write_model(gcode::Output& out) const;
+  void protection(const gcode::Command& cmd, gcode::Output& out, const HandOver& now);  // M570
+  void write_protection(gcode::Output& out) const;
   void write_selection(gcode::Output& out) const;
   void write_fuzzy(gcode::Output& out) const;
   void write_upload(gcode::Output& out, const gcode::FlashText* prefix) const;

@@ -22,6 +22,12 @@ Settings default_settings() {
   s.fuzzy_spread_pct = control::kDefaultFuzzySpreadPct;
   s.fuzzy_e_factor_q12 = control::kSeedEFactorQ12;
   s.fuzzy_ec_factor_q12 = control::kSeedEcFactorQ12;
+  // Protection (issue 8, docs/protection.md): thresholds that passed every plant of the
+  // simulator's bank without a false trip, with margin.
+  s.model_tuned = 0;
+  s.protect_tuned_c = 2;
+  s.protect_default_c = 15;
+  s.watch_period_s = 120;
   return s;
 }
 
@@ -29,7 +35,13 @@ bool settings_fields_in_range(const Settings& s) {
   return s.pid.kp_q16 >= 0 && s.pid.ki_q16 >= 0 && s.pid.kd_q16 >= 0 && control::hotend_model_valid(s.model) &&
          s.controller < kControllerCount && s.feedforward <= 1 && s.fuzzy_spread_pct <= kMaxFuzzySpreadPct &&
          s.fuzzy_e_factor_q12 >= kMinEFactorQ12 && s.fuzzy_e_factor_q12 <= kMaxEFactorQ12 &&
-         s.fuzzy_ec_factor_q12 >= kMinEcFactorQ12 && s.fuzzy_ec_factor_q12 <= kMaxEcFactorQ12;
+         s.fuzzy_ec_factor_q12 >= kMinEcFactorQ12 && s.fuzzy_ec_factor_q12 <= kMaxEcFactorQ12 && protection_valid(s);
+}
+
+bool protection_valid(const Settings& s) {
+  return s.model_tuned <= 1 && s.protect_tuned_c >= kProtectMinC && s.protect_tuned_c <= kProtectMaxC &&
+         s.protect_default_c >= kProtectMinC && s.protect_default_c <= kProtectMaxC &&
+         s.watch_period_s >= kWatchMinPeriodS && s.watch_period_s <= kWatchMaxPeriodS;
 }
 
 control::FuzzyPidConfig fuzzy_config(const Settings& s) {

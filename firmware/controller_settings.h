@@ -30,7 +30,16 @@ struct Settings {
   uint8_t fuzzy_spread_pct;       // M312 S: fuzzy schedule spans M301 × (1 ∓ spread)
   uint16_t fuzzy_e_factor_q12;    // M312 E: universe units per °C, Q12
   uint16_t fuzzy_ec_factor_q12;   // M312 C: universe units per °C/s, Q12
+  uint8_t model_tuned;            // 1: `model` came from M303 or M307 (kept by M500), 0: the default
+  uint8_t protect_tuned_c;        // M570 T: model check's evidence threshold, °C, tuned model
+  uint8_t protect_default_c;      // M570 U: the same with the default model
+  uint16_t watch_period_s;        // M570 P: the model-free heating watch's window, s
 };
+
+// M570's ranges (docs/protection.md).
+constexpr int32_t kProtectMinC = 2, kProtectMaxC = 60;
+constexpr int32_t kWatchMinPeriodS = 20, kWatchMaxPeriodS = 600;
+bool protection_valid(const Settings& s);
 
 Settings default_settings();
 

@@ -43,6 +43,7 @@ void HotendMachine::load_settings_at_boot() {
   } else {
     out_.write_flash(GCODE_TEXT("echo:EEPROM invalid (blank, corrupt or refused), defaults loaded\n"));
   }
+  loop_.sync_protection(bank_.settings());  // before the first control period
 }
 
 gcode::HeaterStatus HotendMachine::heater_status() {
@@ -63,9 +64,9 @@ bool HotendMachine::handle_command(const gcode::Command& cmd, gcode::Output& out
     if (tune_.begin(cmd, out, refusal, hal::fan_pwm::duty())) heater_.set_target_q8(tune_.target_q8());
     return true;
   }
-  // M307/M310/M311/M312 with parameters change the controllers; bare, they only report.
-  const bool changes = cmd.letter == 'M' && cmd.code >= 307 && cmd.code <= 312 && cmd.params != nullptr &&
-                       *cmd.params != '\0';
+  // M307/M310/M311/M312/M570 with parameters change the settings; bare, they only report.
+  const bool changes = cmd.letter == 'M' && ((cmd.code >= 307 && cmd.code <= 312) || cmd.code == 570) &&
+                       cmd.params != nullptr && *cmd.params != '\0';
   if (changes && tune_.busy()) {
     out.error_line(busy_tuning());
     return true;
@@ -83,6 +84,7 @@ void HotendMachine::background(gcode::Output& out) {
       out.print(GCODE_TEXT(" bytes written)\n"));
     }
   }
+  loop_.sync_protection(bank_.settings());  // M307, M303 U1, M501/M502, M570 reach the protection here
   if (!tune_.busy()) return;
   // The tune has ended once report() says so: the heater is off, the controllers take over
   // only from the next target (HandOver: not heating).
@@ -136,6 +138,7 @@ const gcode::FlashText* HotendMachine::clear_fault() {
                                                     : GCODE_TEXT("M999 refused: MAXTEMP condition persists");
   }
   heater_.clear_fault();
+  loop_.restart_protection();
   out_.write_flash(GCODE_TEXT("echo:Fault cleared, heater off until a new target\n"));
   return nullptr;
 }

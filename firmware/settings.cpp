@@ -8,7 +8,8 @@ namespace {
 
 constexpr uint16_t kMagic = 0x4854;  // "HT" (hotend)
 // Bump when SettingsBlock changes meaning: old blocks then read invalid. 2: issue 3 (model,
-// controller choice, fuzzy configuration, state-feedback constants); 3: two slots (issue 8).
+// controller choice, fuzzy configuration, state-feedback constants); 3: issue 8 (two slots;
+// model_tuned and M570 in Settings).
 constexpr uint8_t kLayoutVersion = 3;
 constexpr uint16_t kBlockSize = kCrcOffset - kSettingsOffset;  // catches a forgotten version bump
 

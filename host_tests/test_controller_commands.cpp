@@ -176,9 +176,11 @@ TEST(ControllerCommands, M503LinesRestoreEverySettingOnAFreshFirmware) {
   Rig rig;
   rig.send(upload_of(fixtures::hotend40w_constants()));
   rig.send("M301 P20 I0.5 D80\nM307 A500 C200 D6 F30\nM312 S40 E0.3 C0.7\nM310 S1 F1\n");
+  rig.send("M570 T4 U20 P90\n");
   const std::vector<std::string> lines = settings_lines(rig);
-  ASSERT_EQ(lines.size(), 1u + 1 + 14 + 1 + 1);  // M307, M312, M311 × 13 + W1, M310, M301
-  EXPECT_EQ(lines[lines.size() - 2], "M310 S1 F1 ; state feedback");
+  ASSERT_EQ(lines.size(), 1u + 1 + 14 + 1 + 1 + 1);  // M307, M312, M311 × 13 + W1, M310, M570, M301
+  EXPECT_EQ(lines[lines.size() - 3], "M310 S1 F1 ; state feedback");
+  EXPECT_EQ(lines[lines.size() - 2], "M570 T4 U20 P90 ; model: tuned (M303/M307)");
   EXPECT_EQ(lines.back().substr(0, 5), "M301 ");
   Rig fresh;
   for (const std::string& line : lines) EXPECT_EQ(fresh.send(line + "\n").substr(0, 5) == "Error", false) << line;
@@ -228,6 +230,34 @@ TEST(ControllerCommands, M502ForgetsTheUploadAndFallsBackToTheDefaultController)
   EXPECT_FALSE(rig.machine.bank.state_feedback_loaded());
   EXPECT_EQ(rig.send("M310\n"), "echo:M310 S0 F0 ; PID\nok\n");
   EXPECT_EQ(rig.send("M311\n"), "echo:M311 ; no state-feedback constants loaded\nok\n");
+}
+
+// Issue 8: M570 sets the protection's thresholds, all or nothing; bare, it reports them and
+// whether the model check runs on a tuned model (M303/M307) or the default.
+TEST(ControllerCommands, M570SetsTheProtectionAndRefusesOutOfRange) {
+  Rig rig;
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T2 U15 P120 ; model: default\nok\n");
+  EXPECT_EQ(rig.send("M570 T5 P60\n"), "ok\n");
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 ; model: default\nok\n");
+  EXPECT_EQ(rig.send("M570 T1\n"), "Error:M570 T must be an integer in 2..60\nok\n");
+  EXPECT_EQ(rig.send("M570 T6 P700\n"), "Error:M570 P must be an integer in 20..600\nok\n");  // T not applied
+  EXPECT_EQ(rig.send("M570 U2.5\n"), "Error:M570 U must be an integer in 2..60\nok\n");
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 ; model: default\nok\n");
+  EXPECT_EQ(rig.send("M307 A500\n"), "ok\n");  // a model the host vouches for: the check tightens
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 ; model: tuned (M303/M307)\nok\n");
+  rig.send("M502\n");
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T2 U15 P120 ; model: default\nok\n");
+}
+
+TEST(ControllerCommands, StoredProtectionOutOfRangeIsRefusedWhole) {
+  Rig rig;
+  firmware::Settings bad = rig.machine.bank.settings();
+  bad.protect_tuned_c = 0;
+  EXPECT_NE(rig.machine.bank.replace_all(bad, nullptr, firmware::HandOver{0, 0, false}), nullptr);
+  bad = rig.machine.bank.settings();
+  bad.watch_period_s = 5;
+  EXPECT_NE(rig.machine.bank.replace_all(bad, nullptr, firmware::HandOver{0, 0, false}), nullptr);
+  EXPECT_EQ(rig.machine.bank.settings().protect_tuned_c, 2);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "sim/bench.h"
+#include "sim/bench_faults.h"
 #include "sim/controller_setup.h"
 #include "sim/report.h"
 #include "sim/run_files.h"
@@ -68,9 +69,10 @@ void write_plots(const std::string& dir, const std::vector<BenchCase>& cases, co
 }  // namespace
 
 int bench_command(const std::vector<std::string>& args) {
-  const Options o = parse_options(args, {"markdown", "autotune"});
+  const Options o = parse_options(args, {"markdown", "autotune", "faults", "untuned"});
   reject_unknown(o, {"boards", "plants", "controllers", "variant", "target", "fan-step", "seconds", "jobs",
-                     "noise-lsb", "seed", "gains", "gains-rule", "gcode", "csv-dir", "plots", "elf-dir"});
+                     "noise-lsb", "seed", "gains", "gains-rule", "gcode", "csv-dir", "plots", "elf-dir", "fault-at",
+                     "fault-kinds", "tail"});
   if (o.has("plots") && !o.has("csv-dir")) throw std::invalid_argument("--plots needs --csv-dir");
   std::vector<std::string> boards, plants;
   for (const BoardSpec& b : all_boards()) boards.push_back(b.id);
@@ -79,6 +81,7 @@ int bench_command(const std::vector<std::string>& args) {
   if (o.has("plants")) plants = split(o.get("plants"), ',');
   const std::string elf_dir = o.get("elf-dir", HOTEND_SIM_FIRMWARE_DIR);
   if (o.has("csv-dir")) std::filesystem::create_directories(o.get("csv-dir"));
+  if (o.has("faults")) return bench_faults(o, boards, plants, elf_dir);
 
   // Grouped by plant, then board, so a plant's controllers sit together in the table.
   std::vector<BenchCase> cases;

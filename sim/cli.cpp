@@ -12,6 +12,7 @@
 #include "sim/cli_args.h"
 #include "sim/tune_plot.h"
 #include "sim/default_gains.h"
+#include "sim/print_like.h"
 #include "sim/plant_model.h"
 #include "sim/report.h"
 #include "sim/run_setup.h"
@@ -24,12 +25,13 @@ namespace sim {
 namespace {
 
 constexpr double kFaultRunTailS = 5.0;  // fault runs end this long after the fault by default
+constexpr double kPlantFaultTailS = 60.0;  // detached/heater-dead/...: time to detect, then to see the block peak
 
 const char* const kUsage = R"(usage:
   hotend-sim [run] [--board sanguinololu|ramps14] [--plant NAME] [--controller NAME] [--target C]
              [--seconds S] [--csv FILE] [--noise-lsb SIGMA] [--seed N]
              [--gains P,I,D | --gains-rule RULE] [--gcode "CMD;CMD@T"] [--elf FILE]
-             [--fault open@T|short@T|hang@T] [--check] [--max-overshoot C] [--max-steady-error C]
+             [--fault KIND@T] [--max-detect S] [--max-block-above C] [--check] [--max-overshoot C] [--max-steady-error C]
              [--max-report-error C] [--max-steady-p2p C] [--max-recovery S]
              [--max-recovery-ratio R] [--transcript FILE] [--quiet]
              [--autotune [--tune-cycles N] [--tune-fan 0|1] [--tune-from C] [--max-tune-overshoot C]
@@ -55,7 +57,12 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the cont
   by --gains-rule (simc = SIMC PI with τc = 2τ; also simc-tight, amigo, cohen-coon, zn-step on
   that fit, and zn-relay: M303's relay experiment with classic Ziegler–Nichols; see `list`),
   ELF from this build's firmware directory. --gains/--gains-rule override a controller's gains.
-  --fault: thermistor open/short or a D0 hang T s after t0; the run ends 5 s after it.
+  --print-like (issue 8): M303 at the start, then targets 190–250 °C every 2–5 min and the part
+  fan 0–100 % every 30–120 s for --seconds (drawn from --seed); --check wants no Error: line.
+  --fault: thermistor open/short or a D0 hang T s after t0; the run ends 5 s after it. Plant
+  faults (issue 8): detached (thermistor out of the block, cools in air), heater-dead, stuck-on,
+  quarter-power, fan-stuck; the run ends 60 s after it; --check wants `Error:…system stopped!`
+  within --max-detect s (10), the block below target + --max-block-above (30) (fan-stuck: no Error).
   --check: exit 1 (listing what failed) unless the run meets the HIL limits: reaches ±1 °C,
   overshoot ≤ 5 °C, |steady mean error| ≤ 0.5 °C, T: reports within 1 °C of the true
   temperature and with @: in 0..255, heater duty in 0–100 %, no Error: or unknown-command line,
@@ -89,6 +96,10 @@ bench: every controller × board × plant (or the given ones) in parallel, heati
   controller on the first board. --autotune (or "autotune" in --controllers): M303 U1 first, then
   the tuned controller's heat-up and fan step, beside pid+ff from the plant's own model and
   marlin-zn (Marlin's M303); adds the tune's duration, maximum above S and the model found.
+  --faults (issue 8): fault × plant × board detection table instead: each fault (--fault-kinds,
+  default detached,heater-dead,stuck-on,quarter-power) at the target (--fault-at hold) or halfway
+  through the heat-up (--fault-at half), with the plant's M307 set (--untuned: the default model),
+  --tail s after the fault (60): Error after, heater off, block peak, lowest sensor-node reading.
 serve: a virtual printer. Boots the firmware on the plant and exposes UART0 as a pseudo-terminal
   (printed; --link makes a symlink to it) for pronsole, Pronterface or OctoPrint at 115200 baud.
   Real time unless --speed X (X × real time: the host's timing stretches with it). Host bytes
@@ -101,9 +112,9 @@ plot: temperature and heater duty of several --csv runs against time in one SVG.
 )";
 
 int run_command(const std::vector<std::string>& args) {
-  const Options o = parse_options(args, {"check", "quiet", "autotune"});
+  const Options o = parse_options(args, {"check", "quiet", "autotune", "print-like"});
   reject_unknown(o, {"board", "plant", "controller", "target", "seconds", "csv", "noise-lsb", "seed", "gains",
-                     "gains-rule", "gcode", "elf", "fault", "transcript", "max-overshoot", "max-steady-error",
+                     "gains-rule", "gcode", "elf", "fault", "max-detect", "max-block-above", "transcript", "max-overshoot", "max-steady-error",
                      "max-report-error", "max-steady-p2p", "max-recovery", "max-recovery-ratio",
                      "tune-cycles", "tune-fan", "tune-from", "after-tune", "max-tune-overshoot", "max-model-error",
                      "svg", "expect-reply", "eeprom-timing", "max-step-gap-ms"});
@@ -113,7 +124,9 @@ int run_command(const std::vector<std::string>& args) {
   c.target_c = parse_number(o.get("target", std::to_string(c.plant.default_target_c)), "--target");
   if (o.has("fault")) parse_fault(o.get("fault"), c);
   const double default_seconds =
-      c.fault == FaultKind::kNone ? c.plant.default_seconds : (c.fault_in_tune ? 0.0 : c.fault_at_s) + kFaultRunTailS;
+      c.fault == FaultKind::kNone
+          ? c.plant.default_seconds
+          : (c.fault_in_tune ? 0.0 : c.fault_at_s) + (is_plant_fault(c.fault) ? kPlantFaultTailS : kFaultRunTailS);
   c.seconds = parse_number(o.get("seconds", std::to_string(default_seconds)), "--seconds");
   c.csv_path = o.get("csv");
   c.elf_path = o.has("elf") ? o.get("elf") : default_elf_path(HOTEND_SIM_FIRMWARE_DIR, c.board);
@@ -122,13 +135,18 @@ int run_command(const std::vector<std::string>& args) {
   if (eeprom_timing != "simavr" && eeprom_timing != "silicon")
     throw std::invalid_argument("--eeprom-timing: simavr or silicon");
   c.silicon_eeprom = eeprom_timing == "silicon";
-  if (o.has("autotune")) {
+  if (o.has("print-like")) {  // M303 first (unless a controller is given), then a print's targets and fan
+    c.print_like = true;
+    for (const TimedCommand& t : print_like_gcode(c.seconds, c.seed)) c.gcode.push_back(t);
+  }
+  if (o.has("autotune") || (o.has("print-like") && !o.has("controller"))) {
     if (o.has("controller")) throw std::invalid_argument("--autotune sets the controller itself (M303 U1)");
     AutotuneConfig a;
     a.cycles = static_cast<int>(parse_number(o.get("tune-cycles", "5"), "--tune-cycles"));
     a.fan = parse_number(o.get("tune-fan", "1"), "--tune-fan") != 0;
     if (o.has("tune-from")) a.hot_start_c = parse_number(o.get("tune-from"), "--tune-from");
     for (const TimedCommand& t : parse_gcode(o.get("after-tune"))) a.after.push_back(t.line);
+    if (c.print_like) a.cool_to_fraction = 1.0;  // the print starts when the tune ends
     c.autotune = a;
     if (!o.has("gains")) {  // the tune designs them
       c.gains.reset();
@@ -145,6 +163,8 @@ int run_command(const std::vector<std::string>& args) {
   if (o.has("max-recovery")) limits.max_recovery_s = parse_number(o.get("max-recovery"), "--max-recovery");
   if (o.has("max-recovery-ratio"))
     limits.max_recovery_bound_ratio = parse_number(o.get("max-recovery-ratio"), "--max-recovery-ratio");
+  limits.max_detect_s = parse_number(o.get("max-detect", "10"), "--max-detect");
+  limits.max_block_above_c = parse_number(o.get("max-block-above", "30"), "--max-block-above");
   limits.max_tune_overshoot_c = parse_number(o.get("max-tune-overshoot", "5"), "--max-tune-overshoot");
   limits.expected_replies = o.all("expect-reply");
   if (o.has("max-step-gap-ms")) limits.max_step_gap_ms = parse_number(o.get("max-step-gap-ms"), "--max-step-gap-ms");

@@ -78,9 +78,20 @@ void parse_fault(const std::string& text, RunConfig& config) {
     config.fault = FaultKind::kOverrun;
   else if (kind == "overrun-numbered")
     config.fault = FaultKind::kOverrunNumbered;
+  else if (kind == "detached")
+    config.fault = FaultKind::kDetached;
+  else if (kind == "heater-dead")
+    config.fault = FaultKind::kHeaterDead;
+  else if (kind == "stuck-on")
+    config.fault = FaultKind::kStuckOn;
+  else if (kind == "quarter-power")
+    config.fault = FaultKind::kQuarterPower;
+  else if (kind == "fan-stuck")
+    config.fault = FaultKind::kFanStuck;
   else
     throw std::invalid_argument("--fault: unknown kind \"" + kind +
-                                "\" (open, short, hang, m108, m112, m112-wait, m112-burst, overrun, overrun-numbered)");
+                                "\" (open, short, hang, m108, m112, m112-wait, m112-burst, overrun, overrun-numbered, detached, heater-dead, stuck-on, "
+                                "quarter-power, fan-stuck)");
   std::string when = text.substr(at + 1);
   config.fault_in_tune = when.rfind("tune+", 0) == 0;  // "open@tune+60": during M303
   if (config.fault_in_tune) when = when.substr(5);

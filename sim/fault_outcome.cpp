@@ -18,6 +18,13 @@ const char* expected_error(FaultKind kind) {
     case FaultKind::kOverrun:
     case FaultKind::kOverrunNumbered:
       return "serial input lost";
+    // Marlin's two wordings ("Heating failed, system stopped!", "Thermal Runaway, system
+    // stopped!") share this; MAXTEMP does not count: the model check should come first.
+    case FaultKind::kDetached:
+    case FaultKind::kHeaterDead:
+    case FaultKind::kStuckOn:
+    case FaultKind::kQuarterPower:
+      return "system stopped!";
     default:
       return "";
   }
@@ -42,7 +49,15 @@ FaultOutcome evaluate_fault(const FaultRecord& r, const std::vector<ReplyLine>& 
         starts_with(line.text, "Error:") && line.text.find(f.expected_error) != std::string::npos)
       f.error_line_s = line.t_s - r.fault_s;
     if (r.reset_s && line.t_s >= *r.reset_s && line.text == "start") f.restarted = true;
+    if (!f.first_error_s && line.t_s >= r.fault_s && starts_with(line.text, "Error:")) {
+      f.first_error_s = line.t_s - r.fault_s;
+      f.first_error = line.text;
+    }
   }
+  f.block_peak_c = r.block_peak_c;
+  f.sensor_min_before_error_c = r.true_c.empty() ? 0.0 : r.true_c.front().second;
+  for (const auto& [t, c] : r.true_c)
+    if (!f.error_line_s || t <= r.fault_s + *f.error_line_s) f.sensor_min_before_error_c = std::min(f.sensor_min_before_error_c, c);
   return f;
 }
 
@@ -66,6 +81,16 @@ const char* fault_name(FaultKind kind) {
       return "RX overrun, unnumbered lines";
     case FaultKind::kOverrunNumbered:
       return "RX overrun, numbered lines";
+    case FaultKind::kDetached:
+      return "thermistor detached";
+    case FaultKind::kHeaterDead:
+      return "heater dead";
+    case FaultKind::kStuckOn:
+      return "heater stuck on";
+    case FaultKind::kQuarterPower:
+      return "heater at a quarter power";
+    case FaultKind::kFanStuck:
+      return "part fan stuck at 100 %";
     case FaultKind::kNone:
       break;
   }

@@ -15,6 +15,9 @@ constexpr int kStepsPerTraceSample = 128;
 // more period later: it is compared with the true temperature over this window before it.
 constexpr double kReportLatencyS = 0.3;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// A detached thermistor lying in air: first-order lag towards ambient. EPCOS's glass-bead NTCs
+// give ~10-20 s in still air; 15 s (our assumption, not measured).
+constexpr double kDetachedLagS = 15.0;
 
 }  // namespace
 
@@ -27,7 +30,7 @@ HotendRig::HotendRig(const BoardSpec& board, const PlantSpec& plant, const std::
       true_min_(kInf),
       true_max_(-kInf) {
   board_.set_adc_source(board.hotend_adc_channel, [this] {
-    const int code = adc_.sample_code(plant_.temperature_c());
+    const int code = adc_.sample_code(sensed_c());
     code_sum_ += code;
     ++code_count_;
     return simavr_mv_for_code(code, board_.adc_ref_mv());
@@ -43,9 +46,15 @@ HotendRig::HotendRig(const BoardSpec& board, const PlantSpec& plant, const std::
 void HotendRig::step() {
   const uint64_t now_cycle = board_.cycle();
   const double now = board_.time_s();
-  const double heater = board_.heater().take_duty(now_cycle);
-  const double fan = board_.fan().take_duty(now_cycle);
+  double heater = board_.heater().take_duty(now_cycle);
+  double fan = board_.fan().take_duty(now_cycle);
+  if (fault_ == FaultKind::kHeaterDead) heater = 0.0;
+  if (fault_ == FaultKind::kStuckOn) heater = 1.0;
+  if (fault_ == FaultKind::kQuarterPower) heater *= 0.25;
+  if (fault_ == FaultKind::kFanStuck) fan = 1.0;
+  if (fault_ == FaultKind::kDetached) detached_c_ += (plant_.spec().ambient_c - detached_c_) * (kStepS / kDetachedLagS);
   plant_.step(PlantInput{heater, fan});
+  if (faulted_) block_peak_c_ = std::max(block_peak_c_, plant_.block_temperature_c());
 
   const double true_c = plant_.temperature_c();
   recent_true_.emplace_back(now, true_c);
@@ -69,10 +78,17 @@ double HotendRig::report_error_c(const TempReport& report) const {
   return std::max({0.0, lo - report.temp_c, report.temp_c - hi});
 }
 
+void HotendRig::mark_fault(FaultKind kind) {
+  faulted_ = true;
+  if (is_plant_fault(kind)) fault_ = kind;
+  detached_c_ = plant_.temperature_c();
+}
+
 void HotendRig::record_trace(double now_s) {
   TraceSample s;
   s.t_s = now_s;
   s.true_c = true_sum_ / trace_steps_;
+  if (faulted_) true_after_fault_.emplace_back(now_s, s.true_c);
   s.true_ripple_c = true_max_ - true_min_;
   s.sensor_c = code_count_ ? adc_.temperature_for_code(code_sum_ / code_count_)
                            : std::numeric_limits<double>::quiet_NaN();

@@ -13,6 +13,7 @@
 
 #include "sim/avr_board.h"
 #include "sim/board_spec.h"
+#include "sim/fault_outcome.h"
 #include "sim/host_session.h"
 #include "sim/metrics.h"
 #include "sim/plant_model.h"
@@ -39,6 +40,13 @@ class HotendRig {
   // |reported − true| beyond the true range over the report's latency window (0 inside it).
   double report_error_c(const TempReport& report) const;
 
+  // A fault from now on (issue 8's hardware faults act on the plant: a detached thermistor cools
+  // in air, a dead / stuck-on / quarter-power heater, a stuck fan); the block's peak and the
+  // true temperature are recorded from here for the fault's outcome.
+  void mark_fault(FaultKind kind);
+  double block_peak_c() const { return block_peak_c_; }
+  const std::vector<std::pair<double, double>>& true_after_fault() const { return true_after_fault_; }
+
   AvrBoard& board() { return board_; }
   const AvrBoard& board() const { return board_; }
   ThermistorAdc& sensor() { return adc_; }
@@ -47,6 +55,8 @@ class HotendRig {
  private:
   void step();
   void record_trace(double now_s);
+  // What the thermistor sees: the plant's sensor node, or its own temperature once detached.
+  double sensed_c() const { return fault_ == FaultKind::kDetached ? detached_c_ : plant_.temperature_c(); }
 
   AvrBoard board_;
   Plant plant_;
@@ -56,6 +66,11 @@ class HotendRig {
   std::deque<std::pair<double, double>> recent_true_;  // (t, true °C) over the report latency
   double target_c_ = 0.0;
   double reported_c_;
+  bool faulted_ = false;
+  FaultKind fault_ = FaultKind::kNone;  // the plant fault acting (kNone: none, or not a plant fault)
+  double detached_c_ = 0.0;             // the detached thermistor's own temperature
+  double block_peak_c_ = -1e9;
+  std::vector<std::pair<double, double>> true_after_fault_;  // (t, true °C) per trace sample
   // Accumulators over one trace sample.
   int trace_steps_ = 0;
   double heater_sum_ = 0.0, fan_sum_ = 0.0, true_sum_ = 0.0, true_min_, true_max_;

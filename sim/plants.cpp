@@ -106,12 +106,20 @@ void Plant::step(const PlantInput& in) {
   x_.swap(x_next_);
   double rise = 0.0;
   for (std::size_t j = 0; j < n; ++j) rise += spec_.model.c(0, static_cast<int>(j)) * x_[j];
+  undelayed_rise_k_ = rise;
   if (!delay_line_.empty()) {
     std::swap(rise, delay_line_[delay_index_]);  // the sensor sees C·x of `delay` ago
     delay_index_ = (delay_index_ + 1) % delay_line_.size();
   }
   rise_k_ = rise;
   ++steps_;
+}
+
+double Plant::block_temperature_c() const {
+  const design::LtiModel& m = spec_.model;
+  // Physical models (FOPDT, lags in cascade, two-node) take the heater into state 0.
+  if (m.physical_states) return spec_.ambient_c + x_[0];
+  return spec_.ambient_c + undelayed_rise_k_;
 }
 
 std::vector<double> full_power_step_response_k(const PlantSpec& spec, double dt_s, std::size_t steps) {

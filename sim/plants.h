@@ -49,6 +49,10 @@ class Plant {
   void step(const PlantInput& in);
   // The "true" temperature: the sensor node / model output, °C.
   double temperature_c() const { return spec_.ambient_c + rise_k_; }
+  // The heater block's temperature: the block node of a physical (two-node) model, otherwise
+  // the model's output before the transport delay to the sensor. What a fault heats (a detached
+  // thermistor no longer sees it), °C.
+  double block_temperature_c() const;
   double time_s() const { return double(steps_) * dt_s_; }
   double dt_s() const { return dt_s_; }
   const PlantSpec& spec() const { return spec_; }
@@ -65,6 +69,7 @@ class Plant {
   std::vector<double> delay_line_;  // C·x per step over the dead time, oldest at delay_index_
   std::size_t delay_index_ = 0;
   double rise_k_ = 0.0;       // the delayed output
+  double undelayed_rise_k_ = 0.0;
   double airflow_step_gain_;  // first-order lag of the airflow per step
   double airflow_ = 0.0;      // filtered fan duty 0..1
   std::vector<std::unique_ptr<design::ExpIntegral>> zoh_by_fan_level_;

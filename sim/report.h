@@ -16,6 +16,10 @@ struct CheckLimits {
   double max_steady_error_c = 0.5;  // |steady-state mean error|
   double max_report_error_c = 1.0;  // T: reports vs the true sensor temperature
   double max_heater_off_s = 1.0;    // fault runs: heater off this soon after the fault
+  // Plant faults (issue 8): the Error line this soon after the fault, the block never hotter
+  // than the target + this.
+  double max_detect_s = 10.0;
+  double max_block_above_c = 30.0;
   // Sustained oscillation (issue 3): steady-state peak-to-peak; off unless given.
   std::optional<double> max_steady_peak_to_peak_c;
   // Recovery after the first timed command (e.g. a part-fan step): back in ±1 °C and staying

@@ -152,7 +152,7 @@ void Server::on_step(double now_s) {
     fault_done_[i] = true;
     result_.faults_injected.emplace_back(config_.faults[i].first, now_s);
     if (!first_fault_s_) first_fault_s_ = now_s;
-    inject_fault(config_.faults[i].first, rig_.sensor(), [this](const std::string& line) { injected_ += line + "\n"; });
+    inject_fault(config_.faults[i].first, rig_, [this](const std::string& line) { injected_ += line + "\n"; });
   }
 }
 

@@ -142,7 +142,7 @@ void Runner::send_due_commands(double now_s) {
 
 void Runner::inject_fault(double now_s) {
   fault_abs_s_ = now_s;
-  sim::inject_fault(config_.fault, rig_.sensor(), [this](const std::string& line) { session_.send(line); });
+  sim::inject_fault(config_.fault, rig_, [this](const std::string& line) { session_.send(line); });
   if (is_serial_scenario(config_.fault)) serial_.start(config_.target_c);
 }
 
@@ -323,6 +323,8 @@ void Runner::evaluate_fault_outcome() {
     record.heater_turned_on_after_reset = heater.turn_on_count() > heater_turn_ons_at_that_reset_;
     // Serial scenarios: timed from the last byte of the M112/M108 the host sent.
     if (is_serial_scenario(config_.fault)) record.fault_s = serial_.urgent_sent_s().value_or(record.fault_s);
+    record.block_peak_c = rig_.block_peak_c();
+    record.true_c = rig_.true_after_fault();
     result_.fault = evaluate_fault(record, session_.lines());
     if (config_.fault == FaultKind::kOverrun || config_.fault == FaultKind::kOverrunNumbered)
       result_.fault->serial_problems = check_overrun_replies(config_.fault, session_.lines(), *fault_abs_s_);

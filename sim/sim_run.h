@@ -80,6 +80,7 @@ struct RunConfig {
   std::string csv_path;
   std::optional<AutotuneConfig> autotune;
   bool silicon_eeprom = false;  // --eeprom-timing silicon: 3.4 ms per EEPROM byte write
+  bool print_like = false;  // --print-like: the check is only "nothing tripped" (sim/print_like.h)
 };
 
 struct RunResult {

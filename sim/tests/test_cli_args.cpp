@@ -27,6 +27,19 @@ TEST(CliArgs, Faults) {
   EXPECT_DOUBLE_EQ(c.fault_at_s, 42.0);
   parse_fault("hang@1", c);
   EXPECT_EQ(c.fault, FaultKind::kHang);
+  parse_fault("detached@150", c);
+  EXPECT_EQ(c.fault, FaultKind::kDetached);
+  EXPECT_DOUBLE_EQ(c.fault_at_s, 150.0);
+  parse_fault("heater-dead@1", c);
+  EXPECT_EQ(c.fault, FaultKind::kHeaterDead);
+  parse_fault("stuck-on@1", c);
+  EXPECT_EQ(c.fault, FaultKind::kStuckOn);
+  parse_fault("quarter-power@1", c);
+  EXPECT_EQ(c.fault, FaultKind::kQuarterPower);
+  parse_fault("fan-stuck@1", c);
+  EXPECT_EQ(c.fault, FaultKind::kFanStuck);
+  EXPECT_TRUE(is_plant_fault(FaultKind::kFanStuck));
+  EXPECT_FALSE(is_plant_fault(FaultKind::kOpen));
   EXPECT_THROW(parse_fault("melt@1", c), std::invalid_argument);
   EXPECT_THROW(parse_fault("open", c), std::invalid_argument);
 }

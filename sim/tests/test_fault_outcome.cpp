@@ -22,6 +22,27 @@ TEST(FaultOutcome, OpenThermistor) {
   EXPECT_FALSE(f.reset_s);
 }
 
+// Issue 8: a plant fault wants Marlin's "…system stopped!" line (MAXTEMP does not count) and
+// records the block's peak and the lowest reading until that line.
+TEST(FaultOutcome, PlantFaultWantsTheModelCheckLineAndTheLowestReadingBeforeIt) {
+  FaultRecord r;
+  r.kind = FaultKind::kQuarterPower;
+  r.fault_s = 100.0;
+  r.heater_last_change_s = 107.0;
+  r.block_peak_c = 212.5;
+  r.true_c = {{100.1, 210.0}, {104.0, 203.0}, {107.0, 199.0}, {120.0, 150.0}};
+  const std::vector<ReplyLine> lines{{105.0, "Error:MAXTEMP triggered"},
+                                     {107.0, "Error:Thermal Runaway, system stopped! Heater_ID: 0"}};
+  const FaultOutcome f = evaluate_fault(r, lines);
+  ASSERT_TRUE(f.error_line_s);
+  EXPECT_NEAR(*f.error_line_s, 7.0, 1e-9);
+  ASSERT_TRUE(f.first_error_s);
+  EXPECT_NEAR(*f.first_error_s, 5.0, 1e-9);
+  EXPECT_EQ(f.first_error, "Error:MAXTEMP triggered");
+  EXPECT_DOUBLE_EQ(f.block_peak_c, 212.5);
+  EXPECT_DOUBLE_EQ(f.sensor_min_before_error_c, 199.0);  // 150 °C came after the Error
+}
+
 TEST(FaultOutcome, HeaterOffBeforeTheFaultCountsAsZero) {
   FaultRecord r;
   r.kind = FaultKind::kShort;

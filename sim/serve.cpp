@@ -208,11 +208,7 @@ void Server::finish(double wall_s) {
   RunResult& r = result_.run;
   AvrBoard& board = rig_.board();
   r.wall_s = wall_s;
-  r.end_s = board.time_s();
-  r.step_cycles = board.step_cycles();
-  r.image = board.image_size();
-  r.resets = board.reset_count();
-  r.simavr_messages = board.simavr_messages();
+  record_board_figures(board, r);
   r.transcript = listener_.transcript();
   r.trace = rig_.trace();
   r.config.board = config_.board;

@@ -286,14 +286,7 @@ RunResult Runner::run() {
 }
 
 void Runner::finish() {
-  result_.end_s = board_.time_s();
-  result_.step_cycles = board_.step_cycles();
-  result_.eeprom = board_.eeprom_stats();
-  result_.image = board_.image_size();
-  result_.resets = board_.reset_count();
-  result_.simavr_messages = board_.simavr_messages();
-  if (board_.simavr_messages_dropped())
-    result_.simavr_messages.push_back("(" + std::to_string(board_.simavr_messages_dropped()) + " more)\n");
+  record_board_figures(board_, result_);
   for (const std::string& p : session_.problems()) result_.problems.push_back(p);
   result_.transcript = session_.transcript();
   result_.trace = rig_.trace();
@@ -332,6 +325,17 @@ void Runner::evaluate_fault_outcome() {
 }
 
 }  // namespace
+
+void record_board_figures(const AvrBoard& board, RunResult& r) {
+  r.end_s = board.time_s();
+  r.step_cycles = board.step_cycles();
+  r.eeprom = board.eeprom_stats();
+  r.image = board.image_size();
+  r.resets = board.reset_count();
+  r.simavr_messages = board.simavr_messages();
+  if (board.simavr_messages_dropped())
+    r.simavr_messages.push_back("(" + std::to_string(board.simavr_messages_dropped()) + " more)\n");
+}
 
 RunResult run_simulation(const RunConfig& config) { return Runner(config).run(); }
 

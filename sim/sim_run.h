@@ -115,4 +115,8 @@ struct RunResult {
 // written.
 RunResult run_simulation(const RunConfig& config);
 
+// The board's own figures at the end of a session (run's and serve's): simulated time, control
+// step cycles and gaps, EEPROM writes, image size, resets, simavr's messages.
+void record_board_figures(const AvrBoard& board, RunResult& r);
+
 }  // namespace sim

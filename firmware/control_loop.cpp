@@ -58,11 +58,16 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
       if (fault == Fault::kStuckOn) stuck_reported_ = true;
     }
   }
-  if (newly_latched) {  // the watch resets itself: target is 0
-    out_.error_line(fault_message(fault));
-    const gcode::FlashText* reason = fault_reason(fault);
-    if (reason != nullptr) out_.error_line(reason);
-  }
+  if (newly_latched) unreported_ = fault;  // the watch resets itself: target is 0
+}
+
+void ControlLoop::report(gcode::Output& out) {
+  const Fault fault = unreported_;
+  if (fault == Fault::kNone) return;
+  unreported_ = Fault::kNone;  // first: a step inside these writes may latch the next one
+  out.error_line(fault_message(fault));
+  const gcode::FlashText* reason = fault_reason(fault);
+  if (reason != nullptr) out.error_line(reason);
 }
 
 void ControlLoop::sync_protection(const Settings& s) {

@@ -16,11 +16,13 @@ namespace firmware {
 
 class ControlLoop {
  public:
-  ControlLoop(HeaterManager& heater, AutotuneJob& tune, gcode::Output& out)
-      : heater_(heater), tune_(tune), out_(out) {}
+  ControlLoop(HeaterManager& heater, AutotuneJob& tune) : heater_(heater), tune_(tune) {}
 
   // One period from the window's adc_q6 (mean ADC code x 64).
   void run(uint16_t adc_q6);
+  // Prints the Error lines of a fault run() latched. Separate from run(): a step may run inside
+  // a reply (hal::uart's TX wait hook), where its lines would split the reply's line.
+  void report(gcode::Output& out);
 
   int32_t temp_q8() const { return temp_q8_; }  // latest conversion, degC x 256 (0 before the first)
   // The cause of a MINTEMP/MAXTEMP fault is still present (M999 must refuse).
@@ -36,13 +38,13 @@ class ControlLoop {
  private:
   HeaterManager& heater_;
   AutotuneJob& tune_;  // while busy, M303 drives the heater and the part fan
-  gcode::Output& out_;
   RangeGuard guard_;
   ThermalWatch watch_;
   control::ModelCheck check_;
   control::HotendModel check_model_{0, 0, 0, 0};  // what check_ was configured with
   uint8_t check_tuned_ = 0xFF;                    // 0xFF: never configured
   uint8_t check_threshold_c_ = 0;
+  Fault unreported_ = Fault::kNone;  // latched by run(), not yet printed by report()
   bool stuck_reported_ = false;  // kStuckOn printed (it is printed even over another latched fault)
   int32_t temp_q8_ = 0;
 };

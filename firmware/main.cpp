@@ -29,7 +29,7 @@ firmware::ControllerBank g_bank(firmware::load_surface_cell);
 firmware::HeaterManager g_heater(g_bank);
 control::Autotune g_autotune;  // zero-initialised: .bss
 firmware::AutotuneJob g_tune(g_bank, g_autotune);
-firmware::ControlLoop g_loop(g_heater, g_tune, g_out);
+firmware::ControlLoop g_loop(g_heater, g_tune);
 firmware::HotendMachine g_machine(g_heater, g_loop, g_bank, g_tune, g_out);
 gcode::Interpreter g_gcode(g_machine, g_out);
 
@@ -60,6 +60,15 @@ void feed_input() {
   }
 }
 
+// While a reply waits for room in the TX ring: the control step, if its window is ready, so
+// a long reply (M503, M303's report) never delays it. Not while an M112/M108 from the byte
+// stream waits: the main loop latches that first, before any new duty.
+void step_while_writing() {
+  if (firmware::emergency_input::pending()) return;
+  uint16_t adc_q6;
+  if (hal::adc::take_window(adc_q6)) g_loop.run(adc_q6);
+}
+
 }  // namespace
 
 int main() {
@@ -73,8 +82,10 @@ int main() {
 
   firmware::print_banner(g_out);
   g_machine.load_settings_at_boot();
-  // From here on the control loop must run every 128 ms, or the board resets.
+  // From here on the control loop must run every 128 ms, or the board resets; a reply that
+  // fills the TX ring runs it while it waits.
   hal::watchdog::enable();
+  hal::uart::set_tx_wait_hook(step_while_writing);
 
   for (;;) {
     hal::sleep::idle_unless(has_work);
@@ -84,6 +95,7 @@ int main() {
       g_loop.run(adc_q6);
       take_urgent();  // a stop that came during the step overrides the duty it handed over
     }
+    g_loop.report(g_out);  // a fault latched here or by a step inside a reply
     // Stops at a ready window, so a burst of commands cannot delay the control step.
     feed_input();
     g_gcode.poll(hal::tick::millis());

@@ -28,6 +28,8 @@ volatile uint8_t g_rx_tail;  // main loop writes
 volatile uint8_t g_rx_lost_bits[hal::uart::kRxBufferSize / 8];
 volatile uint8_t g_rx_lost_pending;
 hal::uart::RxObserver g_rx_observer;  // set before the receiver is enabled, then constant
+hal::uart::TxWaitHook g_tx_wait_hook;
+bool g_in_tx_wait_hook;  // main-loop context only: a write from inside the hook just sleeps
 uint8_t g_tx_buffer[hal::uart::kTxBufferSize];
 volatile uint8_t g_tx_head;  // main loop writes
 volatile uint8_t g_tx_tail;  // ISR writes
@@ -81,6 +83,8 @@ void init(RxObserver observer) {
   UCSR0B = (1 << RXEN0) | (1 << TXEN0) | (1 << RXCIE0);
 }
 
+void set_tx_wait_hook(TxWaitHook hook) { g_tx_wait_hook = hook; }
+
 bool rx_available() { return g_rx_head != g_rx_tail || g_rx_lost_pending; }
 
 RxEvent read(uint8_t& byte) {
@@ -106,6 +110,11 @@ void write(uint8_t byte) {
   const uint8_t next = static_cast<uint8_t>(head + 1) & kTxMask;
   while (next == g_tx_tail) {
     if (interrupts_enabled()) {
+      if (g_tx_wait_hook != nullptr && !g_in_tx_wait_hook) {
+        g_in_tx_wait_hook = true;
+        g_tx_wait_hook();
+        g_in_tx_wait_hook = false;
+      }
       sleep::idle_unless([] { return g_tx_tail != static_cast<uint8_t>((g_tx_head + 1) & kTxMask); });
     } else if (UCSR0A & (1 << UDRE0)) {
       send_next();  // interrupts off: the UDRE ISR cannot run, so drain by polling

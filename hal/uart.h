@@ -36,6 +36,12 @@ bool rx_available();          // read() would return something other than kNone
 // (interrupts must be enabled then; with interrupts off it pushes bytes out by polling).
 void write(uint8_t byte);
 
+// Called (not nested) each time write() finds the TX ring full with interrupts enabled, before
+// it sleeps for a free slot: the firmware runs a due control step there, so a long reply never
+// delays it (M503 measured a 201 ms gap between 128 ms steps without it).
+using TxWaitHook = void (*)();
+void set_tx_wait_hook(TxWaitHook hook);
+
 // Waits until the TX ring is empty; the hardware sends the last byte or two by itself even
 // with interrupts off (used before a deliberate hang).
 void flush();

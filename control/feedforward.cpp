@@ -94,7 +94,8 @@ ModelReference::Output ModelReference::step(int32_t target_q8, uint16_t steady_q
     // The update is linear in the duty u: Δx(u) = Δx(0) + u·α·A. Heating at full power (or
     // cooling with the heater off) until x would pass the target; that update lands x on it with
     // u = (target − x − Δx(0)) / (α·A), from the full-power step less the overshoot it would
-    // make: 0 ≤ overshoot ≤ α·A, so overshoot × per_step ≤ 65535 + α·A < 2^30 (mul_round).
+    // make: 0 ≤ overshoot ≤ α·|25 °C + A − x| (≤ α·A unless x is outside 25 °C … 25 °C + A), and
+    // with x within ±2048 °C overshoot × per_step < 2^16 · 2^12 < 2^30 (mul_round).
     if (x < target_q16) {
       const int32_t step = scaled(full_q16_ - x);
       if (x + step < target_q16) {

@@ -58,16 +58,19 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
       if (fault == Fault::kStuckOn) stuck_reported_ = true;
     }
   }
-  if (newly_latched) unreported_ = fault;  // the watch resets itself: target is 0
+  if (newly_latched) unreported_ = static_cast<uint16_t>(unreported_ | (1u << static_cast<uint8_t>(fault)));
 }
 
 void ControlLoop::report(gcode::Output& out) {
-  const Fault fault = unreported_;
-  if (fault == Fault::kNone) return;
-  unreported_ = Fault::kNone;  // first: a step inside these writes may latch the next one
-  out.error_line(fault_message(fault));
-  const gcode::FlashText* reason = fault_reason(fault);
-  if (reason != nullptr) out.error_line(reason);
+  const uint16_t faults = unreported_;
+  unreported_ = 0;  // first: a step inside these writes may latch another (printed next pass)
+  for (uint8_t f = 1; faults >> f != 0; ++f) {
+    if ((faults >> f & 1u) == 0) continue;
+    const Fault fault = static_cast<Fault>(f);
+    out.error_line(fault_message(fault));
+    const gcode::FlashText* reason = fault_reason(fault);
+    if (reason != nullptr) out.error_line(reason);
+  }
 }
 
 void ControlLoop::sync_protection(const Settings& s) {

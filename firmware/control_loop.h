@@ -44,7 +44,7 @@ class ControlLoop {
   control::HotendModel check_model_{0, 0, 0, 0};  // what check_ was configured with
   uint8_t check_tuned_ = 0xFF;                    // 0xFF: never configured
   uint8_t check_threshold_c_ = 0;
-  Fault unreported_ = Fault::kNone;  // latched by run(), not yet printed by report()
+  uint16_t unreported_ = 0;  // bit (1 << Fault) per fault run() latched and report() has not printed
   bool stuck_reported_ = false;  // kStuckOn printed (it is printed even over another latched fault)
   int32_t temp_q8_ = 0;
 };

@@ -91,28 +91,32 @@ void AutotuneJob::stop(Stop why) {
 }
 
 bool AutotuneJob::report(gcode::Output& out, const HandOver& now) {
-  if (pending_ & kCycleLine) {
+  // Taken first: a control step run while these lines go out (hal::uart's TX wait) may end a
+  // cycle or the tune; what it leaves is printed at the next pass.
+  const uint8_t pending = pending_;
+  pending_ = 0;
+  const control::AutotuneCycle cycle = cycle_;
+  const control::AutotuneUltimate ultimate = ultimate_;
+  if (pending & kCycleLine) {
     // Marlin's per-cycle line: relay levels on the 0–255 scale, the cycle's extremes in °C.
     out.print(GCODE_TEXT(" bias: "));
-    out.write_uint(cycle_.bias);
+    out.write_uint(cycle.bias);
     out.print(GCODE_TEXT(" d: "));
-    out.write_uint(cycle_.d);
+    out.write_uint(cycle.d);
     out.print(GCODE_TEXT(" min: "));
-    out.write_q8(cycle_.min_q8);
+    out.write_q8(cycle.min_q8);
     out.print(GCODE_TEXT(" max: "));
-    out.write_q8(cycle_.max_q8);
+    out.write_q8(cycle.max_q8);
     out.end_line();
   }
-  if (pending_ & kUltimateLine) {
+  if (pending & kUltimateLine) {
     out.print(GCODE_TEXT(" Ku: "));
-    out.write_q8(ultimate_.ku_q8);
+    out.write_q8(ultimate.ku_q8);
     out.print(GCODE_TEXT(" Tu: "));
-    out.write_q8(ultimate_.tu_q8);
+    out.write_q8(ultimate.tu_q8);
     out.end_line();
   }
-  const bool ended = (pending_ & kEnded) != 0;
-  pending_ = 0;
-  if (!ended) return false;
+  if ((pending & kEnded) == 0) return false;
   if (tune_.state() == control::AutotuneState::kFinished) {
     write_result(out, now);
   } else {

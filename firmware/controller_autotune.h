@@ -38,6 +38,9 @@ class AutotuneJob {
   bool running() const { return tune_.state() == control::AutotuneState::kRunning; }
   // Running, or ended with lines still to print (the caller ends the heating when it turns false).
   bool busy() const { return running() || pending_ != 0; }
+  // The tune has ended and report() will print its result: the machine switches the heater off
+  // first, so a control step run while that text goes out (hal::uart's TX wait) cannot heat.
+  bool ended() const { return (pending_ & kEnded) != 0; }
   int32_t target_q8() const { return target_q8_; }
 
   // Control step: the heater duty for the next period; *fan_duty the part fan the tune wants.

@@ -24,6 +24,8 @@ void on_rx_byte(uint8_t byte, bool overrun) {
 
 bool pending() { return g_flags != 0; }
 
+bool stop_pending() { return (g_flags & flag_of(gcode::Urgent::kStop)) != 0; }
+
 bool take(gcode::Urgent kind) {
   hal::CriticalSection lock;  // read-modify-write of a byte the interrupt also sets
   const uint8_t flag = flag_of(kind);

@@ -12,6 +12,7 @@ namespace emergency_input {
 void on_rx_byte(uint8_t byte, bool overrun);  // hal::uart::RxObserver (interrupt context)
 
 bool pending();                // a flag is waiting for the main loop
+bool stop_pending();           // an M112 is waiting (its interrupt already switched the heater off)
 bool take(gcode::Urgent kind);  // main loop: true once per recognised command of that kind
 
 }  // namespace emergency_input

@@ -16,6 +16,7 @@
 #include "hal/board.h"
 #include "hal/critical_section.h"
 #include "hal/gpio.h"
+#include "hal/heater_pwm.h"
 #include "hal/sleep.h"
 #include "hal/tick.h"
 #include "hal/uart.h"
@@ -66,7 +67,11 @@ void feed_input() {
 void step_while_writing() {
   if (firmware::emergency_input::pending()) return;
   uint16_t adc_q6;
-  if (hal::adc::take_window(adc_q6)) g_loop.run(adc_q6);
+  if (!hal::adc::take_window(adc_q6)) return;
+  g_loop.run(adc_q6);
+  // An M112 that arrived during the step: its interrupt's force_off may have been overwritten by
+  // the duty the step handed over. Off again; the main loop latches the stop after the reply.
+  if (firmware::emergency_input::stop_pending()) hal::heater_pwm::force_off();
 }
 
 }  // namespace

@@ -80,8 +80,10 @@ double HotendRig::report_error_c(const TempReport& report) const {
 
 void HotendRig::mark_fault(FaultKind kind) {
   faulted_ = true;
-  if (is_plant_fault(kind)) fault_ = kind;
-  detached_c_ = plant_.temperature_c();
+  // One plant fault at a time (serve accepts several --fault): the first stays.
+  if (!is_plant_fault(kind) || fault_ != FaultKind::kNone) return;
+  fault_ = kind;
+  detached_c_ = plant_.temperature_c();  // a detached thermistor starts from the block's reading
 }
 
 void HotendRig::record_trace(double now_s) {

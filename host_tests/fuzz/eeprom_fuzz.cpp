@@ -67,8 +67,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   rig.machine.commands.sync_staging();
   if (!firmware::settings_fields_in_range(rig.machine.bank.settings())) fail("accepted settings out of range", "");
-  for (int32_t t = 0; t <= 500; t += 50) {
-    rig.machine.bank.step(control::StepInput{210L * 256, t * 256, static_cast<uint8_t>(t & 0x40 ? 255 : 0)});
+  // Enough periods for a state-feedback law with a long decimation to run several times.
+  for (int32_t i = 0; i < 96; ++i) {
+    const int32_t t = (i * 37) % 501;  // readings across 0..500 °C
+    rig.machine.bank.step(control::StepInput{210L * 256, t * 256, static_cast<uint8_t>(i & 8 ? 255 : 0)});
   }
   const std::string lines = m503_lines(rig);
   controller_test::Rig fresh;

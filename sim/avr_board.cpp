@@ -63,6 +63,7 @@ void AvrBoard::load(const BoardSpec& spec, const std::string& elf_path) {
   image.default_clock_and_voltages(spec.cpu_hz, spec.adc_ref_mv);
   avr_load_firmware(avr, &image.elf());
   image_size_ = image.size();
+  for (uint32_t a = stack_floor(); a <= avr->ramend; ++a) avr->data[a] = kStackPaint;
 
   // avr_t has no user pointer; custom.data is only handed to custom.init/deinit, which we
   // leave unset, so it can carry this board back to the C callbacks.
@@ -72,6 +73,20 @@ void AvrBoard::load(const BoardSpec& spec, const std::string& elf_path) {
   avr_->run_cycle_limit = kRunCycleLimit;
   core_reset_ = avr_->reset;
   avr_->reset = &AvrBoard::reset_trampoline;
+}
+
+uint32_t AvrBoard::stack_floor() const {
+  // SRAM starts after the I/O space; the static data (.data + .bss) comes first, then .noinit
+  // (the reset cause, 1 byte; simavr's loader does not count it): 16 bytes are left for it.
+  return uint32_t(avr_->ioend) + 1 + image_size_.ram_bytes + 16;
+}
+
+uint32_t AvrBoard::stack_room_bytes() const { return uint32_t(avr_->ramend) + 1 - stack_floor(); }
+
+uint32_t AvrBoard::stack_max_bytes() const {
+  uint32_t a = stack_floor();
+  while (a <= avr_->ramend && avr_->data[a] == kStackPaint) ++a;
+  return uint32_t(avr_->ramend) + 1 - a;
 }
 
 void AvrBoard::every(uint32_t period_us, std::function<void()> work) {

@@ -94,6 +94,11 @@ class AvrBoard {
   int reset_count() const { return reset_count_; }
 
   ImageSize image_size() const { return image_size_; }
+  // Deepest stack so far (bytes below RAMEND the firmware has written), and the room it has
+  // (RAM above the static data): the RAM above .bss is painted at load, the first unpainted
+  // byte from below is the deepest the stack reached. No heap in the firmware.
+  uint32_t stack_max_bytes() const;
+  uint32_t stack_room_bytes() const;
   const std::string& mcu() const { return mcu_; }
   // simavr's own warnings and errors for this board (e.g. crash reasons): the first ones, and
   // how many more were dropped.
@@ -128,6 +133,8 @@ class AvrBoard {
   void (*core_reset_)(avr_t*) = nullptr;
   std::string mcu_;
   ImageSize image_size_;
+  static constexpr uint8_t kStackPaint = 0xA5;
+  uint32_t stack_floor() const;  // first SRAM address above the static data
   PinMeter heater_;
   PinMeter fan_;
   struct PinWatch;

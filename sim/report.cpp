@@ -54,7 +54,8 @@ void print_report(std::ostream& out, const RunResult& r) {
   const Metrics& m = r.metrics;
   out << "board              " << c.board.name << " (" << c.board.id << ", " << c.board.mcu << ")\n"
       << "firmware           " << c.elf_path << "\n"
-      << "image              flash " << r.image.flash_bytes << " B, RAM " << r.image.ram_bytes << " B\n"
+      << "image              flash " << r.image.flash_bytes << " B, RAM " << r.image.ram_bytes << " B, stack max "
+      << r.stack_max_bytes << " B of " << r.stack_room_bytes << " B free\n"
       << "plant              " << c.plant.name << ": " << c.plant.description << "\n"
       << "target             " << format_fixed(c.target_c, 1) << " °C for " << format_fixed(c.seconds, 0)
       << " s, ADC noise σ " << format_fixed(c.noise_lsb, 2) << " LSB\n"

@@ -331,6 +331,8 @@ void record_board_figures(const AvrBoard& board, RunResult& r) {
   r.step_cycles = board.step_cycles();
   r.eeprom = board.eeprom_stats();
   r.image = board.image_size();
+  r.stack_max_bytes = board.stack_max_bytes();
+  r.stack_room_bytes = board.stack_room_bytes();
   r.resets = board.reset_count();
   r.simavr_messages = board.simavr_messages();
   if (board.simavr_messages_dropped())

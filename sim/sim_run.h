@@ -97,6 +97,8 @@ struct RunResult {
   StepCycleStats step_cycles;
   EepromStats eeprom;
   ImageSize image;
+  uint32_t stack_max_bytes = 0;   // deepest stack of the run (sim/avr_board.h)
+  uint32_t stack_room_bytes = 0;  // RAM above the static data
   double wall_s = 0.0;
   int resets = 0;
   std::vector<std::string> error_lines;  // the firmware's Error: lines

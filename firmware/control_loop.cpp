@@ -22,8 +22,7 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
   bool newly_latched = false;
   uint16_t duty_q16;
   if (fault != Fault::kNone) {
-    newly_latched = heater_.trip(fault);
-    tune_.stop(AutotuneJob::Stop::kFault);
+    newly_latched = latch(fault);
     duty_q16 = 0;
   } else if (guard_.reading_bad()) {
     duty_q16 = heater_.hold_off();
@@ -51,14 +50,19 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
       fault = watch_.reached() ? Fault::kModelRunaway : Fault::kModelHeatingFailed;
     }
     if (fault != Fault::kNone) {
-      newly_latched = heater_.trip(fault);
-      tune_.stop(AutotuneJob::Stop::kFault);
+      newly_latched = latch(fault);
       // A heater stuck on cannot be switched off: say so even when another fault is latched.
       if (fault == Fault::kStuckOn && !stuck_reported_) newly_latched = true;
       if (fault == Fault::kStuckOn) stuck_reported_ = true;
     }
   }
   if (newly_latched) unreported_ = static_cast<uint16_t>(unreported_ | (1u << static_cast<uint8_t>(fault)));
+}
+
+bool ControlLoop::latch(Fault fault) {
+  const bool newly = heater_.trip(fault);
+  tune_.stop(AutotuneJob::Stop::kFault);
+  return newly;
 }
 
 void ControlLoop::report(gcode::Output& out) {

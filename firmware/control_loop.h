@@ -36,6 +36,8 @@ class ControlLoop {
   void restart_protection();
 
  private:
+  // Latches `fault` (heater off at once) and ends an M303; false if a fault was already latched.
+  bool latch(Fault fault);
   HeaterManager& heater_;
   AutotuneJob& tune_;  // while busy, M303 drives the heater and the part fan
   RangeGuard guard_;

@@ -87,12 +87,10 @@ void HotendMachine::background(gcode::Output& out) {
   loop_.sync_protection(bank_.settings());  // M307, M303 U1, M501/M502, M570 reach the protection here
   if (!tune_.busy()) return;
   // Heater off before the result's lines go out: a control step may run while they wait for
-  // the TX ring, and with the target still set it would heat under the next controller.
+  // the TX ring, and with the target still set it would heat under the next controller. The
+  // controllers take over only from the next target (HandOver: not heating).
   if (tune_.ended()) heater_.set_target_q8(0);
-  // The tune has ended once report() says so: the heater is off, the controllers take over
-  // only from the next target (HandOver: not heating).
-  if (!tune_.report(out, HandOver{loop_.temp_q8(), 0, false})) return;
-  heater_.set_target_q8(0);
+  if (!tune_.report(out, HandOver{loop_.temp_q8(), 0, false})) return;  // true only once ended
   commands_.sync_staging();  // U1 may have loaded state-feedback constants: M311 edits those
   hal::fan_pwm::set_duty(tune_.fan_to_restore());
   bank_.prepare_feedforward(0, tune_.fan_to_restore());

@@ -5,7 +5,9 @@
 #pragma once
 #include <stdint.h>
 
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "control/fuzzy_surface_gen.h"
 #include "firmware/controller_bank.h"
@@ -70,6 +72,16 @@ struct Rig {
     return out.take();
   }
 };
+
+// M503's re-sendable lines ("echo:  M..."), without the prefix.
+inline std::vector<std::string> settings_lines(Rig& rig) {
+  std::istringstream report(rig.send("M503\n"));
+  std::vector<std::string> lines;
+  std::string line;
+  while (std::getline(report, line))
+    if (line.rfind("echo:  ", 0) == 0) lines.push_back(line.substr(7));
+  return lines;
+}
 
 // The bank in closed loop on hotend40w at `target_c`: step() advances one control period and
 // returns the duty the bank asked for.

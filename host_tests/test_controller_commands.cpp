@@ -14,6 +14,7 @@
 namespace {
 
 using controller_test::Rig;
+using controller_test::settings_lines;
 using firmware::ControllerId;
 
 constexpr const char* kW1Refused =
@@ -160,16 +161,6 @@ TEST(ControllerCommands, M301RefusesGainsTheFuzzyScheduleCannotHold) {
             "Error:fuzzy-PID schedule (M301 x (1 + M312 S/100)) beyond what the fixed-point PID holds\nok\n");
   EXPECT_EQ(rig.send("M312 S10\n"), "ok\n");
   EXPECT_EQ(rig.send("M301 P900\n"), "echo: p:900.00 i:1.00 d:100.00\nok\n");
-}
-
-// M503's re-sendable lines ("echo:  M..."), without the prefix.
-std::vector<std::string> settings_lines(Rig& rig) {
-  std::istringstream report(rig.send("M503\n"));
-  std::vector<std::string> lines;
-  std::string line;
-  while (std::getline(report, line))
-    if (line.rfind("echo:  ", 0) == 0) lines.push_back(line.substr(7));
-  return lines;
 }
 
 TEST(ControllerCommands, M503LinesRestoreEverySettingOnAFreshFirmware) {

@@ -14,7 +14,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <sstream>
 #include <string>
 
 #include "firmware/settings.h"
@@ -29,11 +28,10 @@ namespace {
   std::abort();
 }
 
+// M503's re-sendable lines as one text, ready to send to another firmware.
 std::string m503_lines(controller_test::Rig& rig) {
-  std::istringstream report(rig.send("M503\n"));
-  std::string line, lines;
-  while (std::getline(report, line))
-    if (line.rfind("echo:  ", 0) == 0) lines += line.substr(7) + "\n";
+  std::string lines;
+  for (const std::string& line : controller_test::settings_lines(rig)) lines += line + "\n";
   return lines;
 }
 

@@ -16,13 +16,21 @@ namespace fixed_math {
 
 constexpr uint16_t kLn2Q16 = 45426;  // ln 2 · 2^16
 
-// log2(1 + i/64) · 2^16, i = 0..63 (i = 64 would be 2^16). 128 bytes.
-constexpr uint16_t kLog2Table[64] = {
+// log2(1 + i/64) · 2^16, i = 0..63 (i = 64 would be 2^16). 128 bytes, read through
+// log2_table() below: the firmware keeps its copy in flash (firmware/log2_table_flash.cpp),
+// host builds read this one (control/log2_table.cpp).
+struct Log2Table {
+  uint16_t q16[64];
+};
+constexpr Log2Table kLog2Table{{
     0,     1466,  2909,  4331,  5732,  7112,  8473,  9814,  11136, 12440, 13727, 14996, 16248,
     17484, 18704, 19909, 21098, 22272, 23433, 24579, 25711, 26830, 27936, 29029, 30109, 31178,
     32234, 33279, 34312, 35334, 36346, 37346, 38336, 39316, 40286, 41246, 42196, 43137, 44068,
     44990, 45904, 46809, 47705, 48593, 49472, 50344, 51207, 52063, 52911, 53751, 54584, 55410,
-    56229, 57040, 57845, 58643, 59434, 60219, 60997, 61769, 62534, 63294, 64047, 64794};
+    56229, 57040, 57845, 58643, 59434, 60219, 60997, 61769, 62534, 63294, 64047, 64794}};
+
+// kLog2Table.q16[i], i = 0..63, from where the build keeps the table.
+uint16_t log2_table(uint8_t i);
 
 // log2(x) · 2^16 for x ≥ 1 (0 for x = 0, which has no logarithm: callers exclude it).
 // x normalised to 1.f · 2^31 (byte shifts first: cheap on AVR); 6 bits of f index the table,
@@ -34,8 +42,8 @@ inline int32_t log2_q16(uint32_t x) {
   while (!(x & 0x80000000u)) { x <<= 1; --e; }
   const uint8_t i = static_cast<uint8_t>((x >> 25) & 63u);
   const uint16_t t = static_cast<uint16_t>(x >> 9);
-  const uint16_t lo = kLog2Table[i];
-  const uint16_t step = static_cast<uint16_t>((i == 63 ? 65536u : kLog2Table[i + 1]) - lo);  // ≤ 1466
+  const uint16_t lo = log2_table(i);
+  const uint16_t step = static_cast<uint16_t>((i == 63 ? 65536u : log2_table(static_cast<uint8_t>(i + 1))) - lo);  // ≤ 1466
   // step · t ≤ 1466 · 65535 < 2^27.
   return static_cast<int32_t>(e) * 65536 + lo + static_cast<int32_t>((static_cast<uint32_t>(step) * t + 0x8000u) >> 16);
 }

@@ -54,8 +54,10 @@ bool AutotuneJob::begin(const gcode::Command& cmd, gcode::Output& out, const gco
     out.error_line(refusal);
     return false;
   }
+  bank_.begin_autotune();
   tune_.configure(kControlPeriodMs);
   if (!tune_.start(target_q8, static_cast<uint8_t>(cycles), fan != 0)) {  // cannot fail: checked above
+    bank_.end_autotune();
     out.error_line(GCODE_TEXT("PID Autotune failed! Bad parameters"));
     return false;
   }
@@ -69,6 +71,10 @@ bool AutotuneJob::begin(const gcode::Command& cmd, gcode::Output& out, const gco
 }
 
 uint16_t AutotuneJob::step(int32_t measured_q8, uint8_t* fan_duty) {
+  if (!bank_.autotuning()) {  // ended and reported: the engine's storage is the controllers' again
+    *fan_duty = user_fan_;
+    return 0;
+  }
   const control::AutotuneOutput o = tune_.step(measured_q8);
   if (o.event == control::AutotuneEvent::kCycle) {
     cycle_ = tune_.cycle();
@@ -117,17 +123,23 @@ bool AutotuneJob::report(gcode::Output& out, const HandOver& now) {
     out.end_line();
   }
   if ((pending & kEnded) == 0) return false;
-  if (tune_.state() == control::AutotuneState::kFinished) {
-    write_result(out, now);
+  // What the engine found, copied before its storage goes back to the controllers (rebuilt from
+  // the settings in force, so U0, a failure and an abort leave them as they were).
+  const bool finished = tune_.state() == control::AutotuneState::kFinished;
+  const control::AutotuneFailure failure = tune_.failure();
+  const control::AutotuneResult result = tune_.result();
+  bank_.end_autotune();
+  if (finished) {
+    write_result(out, now, result);
   } else {
-    write_failure(out);
+    write_failure(out, failure);
   }
   return true;
 }
 
-void AutotuneJob::write_failure(gcode::Output& out) const {
+void AutotuneJob::write_failure(gcode::Output& out, control::AutotuneFailure failure) const {
   out.print(GCODE_TEXT("PID Autotune failed! "));
-  switch (tune_.failure()) {
+  switch (failure) {
     case control::AutotuneFailure::kTooHot: out.print(GCODE_TEXT("Temperature too high")); break;
     case control::AutotuneFailure::kTimeout: out.print(GCODE_TEXT("timeout")); break;
     case control::AutotuneFailure::kNoHeating:
@@ -144,8 +156,7 @@ void AutotuneJob::write_failure(gcode::Output& out) const {
   out.end_line();
 }
 
-void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
-  const control::AutotuneResult& r = tune_.result();
+void AutotuneJob::write_result(gcode::Output& out, const HandOver& now, const control::AutotuneResult& r) {
   control::TunedDesign d;
   if (!control::design_from_tune(r, kControlPeriodMs, &d)) {
     out.print(GCODE_TEXT("PID Autotune failed! Identified model outside the usable range: "));

@@ -26,16 +26,16 @@ class AutotuneJob {
  public:
   enum class Stop : uint8_t { kUser, kFault };  // M108 / M104 S0 / M112, or a latched fault
 
-  // The engine's ~770 bytes of state live in their own zero-initialised object (.bss): inside
-  // this one, next to the bank's address, they would be initialised data (flash + RAM).
-  constexpr AutotuneJob(ControllerBank& bank, control::Autotune& engine) : bank_(bank), tune_(engine) {}
+  // The engine's ~750 bytes of state live in the bank's controller storage (the controllers
+  // cannot run during a tune): begin() borrows it, report() gives it back when the tune ends.
+  constexpr explicit AutotuneJob(ControllerBank& bank) : bank_(bank), tune_(bank.autotune_storage()) {}
 
   // M303 (the command is M303): prints the Error line and returns false for bad parameters or
   // when `refusal` (the machine's reason, e.g. a latched fault) is set; else starts the tune,
   // prints "PID Autotune start", and the caller sets the heater's target to target_q8().
   bool begin(const gcode::Command& cmd, gcode::Output& out, const gcode::FlashText* refusal,
              uint8_t fan_duty);
-  bool running() const { return tune_.state() == control::AutotuneState::kRunning; }
+  bool running() const { return bank_.autotuning() && tune_.state() == control::AutotuneState::kRunning; }
   // Running, or ended with lines still to print (the caller ends the heating when it turns false).
   bool busy() const { return running() || pending_ != 0; }
   // The tune has ended and report() will print its result: the machine switches the heater off
@@ -56,11 +56,11 @@ class AutotuneJob {
 
  private:
   enum Pending : uint8_t { kCycleLine = 1, kUltimateLine = 2, kEnded = 4 };
-  void write_result(gcode::Output& out, const HandOver& now);
-  void write_failure(gcode::Output& out) const;
+  void write_result(gcode::Output& out, const HandOver& now, const control::AutotuneResult& r);
+  void write_failure(gcode::Output& out, control::AutotuneFailure failure) const;
 
   ControllerBank& bank_;
-  control::Autotune& tune_;
+  control::Autotune& tune_;  // valid while bank_.autotuning()
   control::AutotuneCycle cycle_{0, 0, 0, 0};  // copied at the event: printed later
   control::AutotuneUltimate ultimate_{0, 0};
   int32_t target_q8_ = 0;

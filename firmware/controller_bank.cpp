@@ -1,6 +1,13 @@
 #include "firmware/controller_bank.h"
 
+#include "firmware/placement_new.h"
+
 namespace firmware {
+
+const gcode::FlashText* autotune_busy_text() {
+  return GCODE_TEXT("Autotune running (M303): refused; M108 or M104 S0 aborts it");
+}
+
 namespace {
 
 bool same_gains(const control::PidGains& a, const control::PidGains& b) {
@@ -25,7 +32,7 @@ void ControllerBank::init(const Settings& settings) {
   settings_ = settings;
   configure_pid_family(settings);
   feedforward_.configure(settings.model);
-  reference_.configure(settings.model, kControlPeriodMs);
+  reference().configure(settings.model, kControlPeriodMs);
   reset();
 }
 
@@ -46,11 +53,12 @@ const gcode::FlashText* ControllerBank::refusal(const Settings& next, bool sf_av
   return nullptr;
 }
 
+// While M303 has the storage, only the settings change: end_autotune() configures from them.
 void ControllerBank::commit(const Settings& next, const HandOver& now) {
-  if (pid_family_changed(settings_, next)) configure_pid_family(next);
+  if (!autotuning_ && pid_family_changed(settings_, next)) configure_pid_family(next);
   if (!same_model(settings_.model, next.model)) {
     feedforward_.configure(next.model);
-    reference_.configure(next.model, kControlPeriodMs);
+    if (!autotuning_) reference().configure(next.model, kControlPeriodMs);
   }
   settings_ = next;
   prepare_feedforward(ff_target_q8_, ff_fan_);  // model or F may have changed
@@ -82,9 +90,9 @@ bool ControllerBank::load_state_feedback(const control::StateFeedbackConstants& 
 }
 
 void ControllerBank::configure_pid_family(const Settings& s) {
-  pid_.configure(s.pid, kControlPeriodMs);
-  fuzzy_.configure(fuzzy_config(s), kControlPeriodMs);
-  marlin_.configure(s.pid, kControlPeriodMs);
+  pid().configure(s.pid, kControlPeriodMs);
+  fuzzy().configure(fuzzy_config(s), kControlPeriodMs);
+  marlin().configure(s.pid, kControlPeriodMs);
 }
 
 // Whatever changed, the active controller continues from the present duty: a settings change
@@ -101,14 +109,30 @@ void ControllerBank::reset() {
   ff_applied_ = false;  // the PID family's reset keeps its feedforward; refresh it at the next step
   reference_started_ = false;  // the model heats up from the next reading
   reference_holds_ = false;
-  active()->reset();
+  if (!autotuning_) active()->reset();
 }
 
 void ControllerBank::init_bumpless(int32_t measured_q8, uint16_t duty_q16) {
   ff_applied_ = false;  // (another controller may be active now)
   reference_started_ = false;
   reference_holds_ = true;  // no full-power heat-up at a take-over: the duty continues
-  active()->init_bumpless(measured_q8, duty_q16);
+  if (!autotuning_) active()->init_bumpless(measured_q8, duty_q16);
+}
+
+control::Autotune& ControllerBank::begin_autotune() {
+  reset();
+  autotuning_ = true;
+  return *new (&shared_.tune) control::Autotune();
+}
+
+void ControllerBank::end_autotune() {
+  if (!autotuning_) return;
+  new (&shared_.controllers) Controllers(load_);
+  autotuning_ = false;
+  configure_pid_family(settings_);
+  reference().configure(settings_.model, kControlPeriodMs);
+  if (sf_loaded_) sf_staging() = sf_.constants();
+  reset();  // the heater is off when a tune ends: the next target starts the controller afresh
 }
 
 void ControllerBank::prepare_feedforward(int32_t target_q8, uint8_t fan_duty) {
@@ -122,15 +146,16 @@ void ControllerBank::prepare_feedforward(int32_t target_q8, uint8_t fan_duty) {
 control::Controller* ControllerBank::active() {
   switch (active_id()) {
     case ControllerId::kStateFeedback: return &sf_;
-    case ControllerId::kFuzzyPid: return &fuzzy_;
-    case ControllerId::kMarlinPid: return &marlin_;
-    default: return &pid_;
+    case ControllerId::kFuzzyPid: return &fuzzy();
+    case ControllerId::kMarlinPid: return &marlin();
+    default: return &pid();
   }
 }
 
 // Two functions so that the dispatch itself saves no registers: the state-feedback path is a
 // plain tail call (its step is the longest, ~2,300 cycles on the 5-state model).
 uint16_t ControllerBank::step(const control::StepInput& in) {
+  if (autotuning_) return 0;  // (the control loop steps the tune instead)
   if (active_id() == ControllerId::kStateFeedback) return sf_.step(in);  // carries its own feedforward
   return step_pid_family(in);
 }
@@ -144,14 +169,14 @@ __attribute__((noinline)) uint16_t ControllerBank::step_pid_family(const control
   ff_applied_ = true;
   switch (id) {
     case ControllerId::kFuzzyPid:
-      if (update) fuzzy_.set_feedforward(ff_q16_);
-      return fuzzy_.step(in);
+      if (update) fuzzy().set_feedforward(ff_q16_);
+      return fuzzy().step(in);
     case ControllerId::kMarlinPid:
-      if (update) marlin_.set_feedforward(ff_q16_);
-      return marlin_.step(in);
+      if (update) marlin().set_feedforward(ff_q16_);
+      return marlin().step(in);
     default:
-      if (update) pid_.set_feedforward(ff_q16_);
-      return pid_.step(in);
+      if (update) pid().set_feedforward(ff_q16_);
+      return pid().step(in);
   }
 }
 
@@ -161,9 +186,9 @@ __attribute__((noinline)) uint16_t ControllerBank::step_pid_family(const control
 // plain steady feedforward: fuzzy-PID's step is ~2,800 cycles, and the model's ~+700 (measured
 // in the simulator, with the tick interrupts) would break the 3,000-cycle budget.
 __attribute__((noinline)) uint16_t ControllerBank::step_model_following(const control::StepInput& in) {
-  if (!reference_started_) reference_.start(in.measured_q8, reference_holds_ ? in.target_q8 : in.measured_q8);
+  if (!reference_started_) reference().start(in.measured_q8, reference_holds_ ? in.target_q8 : in.measured_q8);
   reference_started_ = true;
-  const control::ModelReference::Output r = reference_.step(in.target_q8, ff_q16_);
+  const control::ModelReference::Output r = reference().step(in.target_q8, ff_q16_);
   const bool update = !ff_applied_ || r.duty_q16 != model_ff_q16_;
   ff_applied_ = true;
   model_ff_q16_ = r.duty_q16;
@@ -172,8 +197,8 @@ __attribute__((noinline)) uint16_t ControllerBank::step_model_following(const co
   // during the transient, and integrating that difference is what overshot.
   const int32_t pid_target_q8 =
       r.reference_q8 != in.target_q8 && in.measured_q8 < in.target_q8 ? in.measured_q8 : r.reference_q8;
-  if (update) pid_.set_feedforward(r.duty_q16);
-  return pid_.step(pid_target_q8, in.measured_q8);
+  if (update) pid().set_feedforward(r.duty_q16);
+  return pid().step(pid_target_q8, in.measured_q8);
 }
 
 }  // namespace firmware

@@ -6,6 +6,7 @@
 #pragma once
 #include <stdint.h>
 
+#include "control/autotune.h"
 #include "control/controller.h"
 #include "control/feedforward.h"
 #include "control/fuzzy_pid.h"
@@ -16,6 +17,9 @@
 #include "firmware/gcode_text.h"
 
 namespace firmware {
+
+// The reason the bank (and the machine) give while M303 has the controllers' storage.
+const gcode::FlashText* autotune_busy_text();
 
 // What a take-over starts from: the latest reading, the duty of the running period, and
 // whether the heater is on (otherwise the controller simply starts afresh).
@@ -28,7 +32,7 @@ struct HandOver {
 class ControllerBank final : public control::Controller {
  public:
   // constexpr: the global instance is constant-initialized (no start-up constructor code).
-  explicit constexpr ControllerBank(fuzzy::LoadCell load) : fuzzy_(load) {}
+  explicit constexpr ControllerBank(fuzzy::LoadCell load) : shared_(load), load_(load) {}
 
   // Start-up with settings apply() would accept without state-feedback constants (defaults).
   void init(const Settings& settings);
@@ -59,6 +63,21 @@ class ControllerBank final : public control::Controller {
 
   ControllerId active_id() const { return static_cast<ControllerId>(settings_.controller); }
 
+  // M303 (issue 7's 2 KB of static RAM): no controller runs while a tune does, so the tune's
+  // engine lives in the controllers' storage. begin_autotune() hands it over (the controllers
+  // are gone; step() returns 0); settings changes meanwhile (M501, M502) are kept and applied
+  // at end_autotune(), which rebuilds the controllers from the settings in force, resets them
+  // and refills the M311 staging copy. Main loop only: end_autotune() configures the PID family
+  // (the cost of an M301).
+  control::Autotune& begin_autotune();
+  void end_autotune();
+  bool autotuning() const { return autotuning_; }
+  // The engine's storage (meaningful only between begin_autotune() and end_autotune()).
+  constexpr control::Autotune& autotune_storage() { return shared_.tune; }
+  // M311's staging copy (ControllerCommands): in the shared storage too (M311 edits are refused
+  // while M303 runs), so use it only while !autotuning().
+  control::StateFeedbackConstants& sf_staging() { return shared_.controllers.staging; }
+
  private:
   control::Controller* active();
   uint16_t step_pid_family(const control::StepInput& in);
@@ -69,13 +88,32 @@ class ControllerBank final : public control::Controller {
   void configure_pid_family(const Settings& s);
   void take_over(const HandOver& now);
 
-  control::Pid pid_;
-  control::FuzzyPid fuzzy_;
-  control::MarlinPid marlin_;
+  // What the settings rebuild: the PID family's state and coefficients, the model reference,
+  // the M311 staging copy. State feedback keeps its constants (loaded by M311 or M501) outside.
+  struct Controllers {
+    explicit constexpr Controllers(fuzzy::LoadCell load) : fuzzy(load) {}
+    control::Pid pid;
+    control::FuzzyPid fuzzy;
+    control::MarlinPid marlin;
+    control::ModelReference reference;  // PID with F1: the model's heat-up
+    control::StateFeedbackConstants staging{};
+  };
+  union Shared {
+    explicit constexpr Shared(fuzzy::LoadCell load) : controllers(load) {}
+    Controllers controllers;  // ~590 bytes on AVR
+    control::Autotune tune;   // ~750 bytes
+  };
+  control::Pid& pid() { return shared_.controllers.pid; }
+  control::FuzzyPid& fuzzy() { return shared_.controllers.fuzzy; }
+  control::MarlinPid& marlin() { return shared_.controllers.marlin; }
+  control::ModelReference& reference() { return shared_.controllers.reference; }
+
+  Shared shared_;
+  fuzzy::LoadCell load_;  // to rebuild the fuzzy-PID after a tune
   control::StateFeedback sf_;
   control::Feedforward feedforward_;
-  control::ModelReference reference_;  // PID with F1: the model's heat-up
   Settings settings_{};
+  bool autotuning_ = false;
   bool sf_loaded_ = false;
   int32_t ff_target_q8_ = -1;  // input of the prepared feedforward (-1: none yet)
   uint8_t ff_fan_ = 0;

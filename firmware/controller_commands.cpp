@@ -90,6 +90,8 @@ void ControllerCommands::select(const gcode::Command& cmd, gcode::Output& out, c
 
 void ControllerCommands::upload(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
   if (*cmd.params == '\0') return write_upload(out, GCODE_TEXT("echo:"));
+  if (bank_.autotuning()) return out.error_line(autotune_busy_text());  // (the machine refuses it first)
+  control::StateFeedbackConstants& staging = bank_.sf_staging();
   int32_t commit = 0;
   if (!cmd.integer('W', 1, 1, &commit, out)) return;
   int32_t previous[control::kSfFieldsPerLine];  // this line's fields before it: a refusal restores them
@@ -101,7 +103,7 @@ void ControllerCommands::upload(const gcode::Command& cmd, gcode::Output& out, c
     for (uint8_t j = 0; j < control::kSfFieldsPerLine; ++j) {  // check the whole line first...
       const char letter = static_cast<char>('A' + j);
       if (!cmd.has(letter)) continue;
-      const control::SfField field = control::sf_field(staging_, static_cast<uint8_t>(first + j));
+      const control::SfField field = control::sf_field(staging, static_cast<uint8_t>(first + j));
       if (field.address == nullptr) {
         out.print(GCODE_TEXT("Error:M311 "));
         out.write_char(letter);
@@ -115,16 +117,16 @@ void ControllerCommands::upload(const gcode::Command& cmd, gcode::Output& out, c
     }
     for (uint8_t j = 0; j < control::kSfFieldsPerLine; ++j) {  // ...then write it
       if (!cmd.has(static_cast<char>('A' + j))) continue;
-      const control::SfField field = control::sf_field(staging_, static_cast<uint8_t>(first + j));
+      const control::SfField field = control::sf_field(staging, static_cast<uint8_t>(first + j));
       previous[j] = control::sf_get(field);
       control::sf_set(field, values[j]);
     }
   }
-  if (commit == 1 && !bank_.load_state_feedback(staging_, now)) {
+  if (commit == 1 && !bank_.load_state_feedback(staging, now)) {
     // A refused command changes nothing: a later W1 must not commit this line's fields.
     for (uint8_t j = 0; writes && j < control::kSfFieldsPerLine; ++j) {
       if (cmd.has(static_cast<char>('A' + j)))
-        control::sf_set(control::sf_field(staging_, static_cast<uint8_t>(first + j)), previous[j]);
+        control::sf_set(control::sf_field(staging, static_cast<uint8_t>(first + j)), previous[j]);
     }
     out.error_line(GCODE_TEXT("M311 W1: constants invalid (ranges, or a product beyond 32 bits), nothing applied"));
   }
@@ -150,10 +152,11 @@ void ControllerCommands::fuzzy(const gcode::Command& cmd, gcode::Output& out, co
 }
 
 void ControllerCommands::sync_staging() {
+  if (bank_.autotuning()) return;  // the storage is M303's now; end_autotune() refills it
   if (bank_.state_feedback_loaded()) {
-    staging_ = bank_.state_feedback_constants();
+    bank_.sf_staging() = bank_.state_feedback_constants();
   } else {
-    staging_ = control::StateFeedbackConstants{};
+    bank_.sf_staging() = control::StateFeedbackConstants{};
   }
 }
 

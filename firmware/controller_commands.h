@@ -42,8 +42,8 @@ class ControllerCommands {
   void write_fuzzy(gcode::Output& out) const;
   void write_upload(gcode::Output& out, const gcode::FlashText* prefix) const;
 
+  // M311's fields go to bank_.sf_staging() (storage shared with M303: refused while it runs).
   ControllerBank& bank_;
-  control::StateFeedbackConstants staging_{};
 };
 
 }  // namespace firmware

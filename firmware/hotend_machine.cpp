@@ -53,7 +53,7 @@ gcode::HeaterStatus HotendMachine::heater_status() {
 
 namespace {
 // While M303 runs, what would change the heater's target or the controllers is refused.
-const gcode::FlashText* busy_tuning() { return GCODE_TEXT("Autotune running (M303): refused; M108 or M104 S0 aborts it"); }
+const gcode::FlashText* busy_tuning() { return autotune_busy_text(); }
 }  // namespace
 
 bool HotendMachine::handle_command(const gcode::Command& cmd, gcode::Output& out) {

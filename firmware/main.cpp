@@ -11,6 +11,7 @@
 #include "firmware/gcode_interpreter.h"
 #include "firmware/heater_manager.h"
 #include "firmware/hotend_machine.h"
+#include "firmware/placement_new.h"
 #include "firmware/serial_output.h"
 #include "hal/adc.h"
 #include "hal/board.h"
@@ -26,10 +27,17 @@ namespace {
 
 // Static objects, wired once: no heap. Constructors only store references.
 firmware::SerialOutput g_out;
-firmware::ControllerBank g_bank(firmware::load_surface_cell);
+// Built at boot (main's first lines) rather than constant-initialised: its ~1.1 KB are mostly
+// zeros but not all (vtable pointers, the surface reader), so a constant image would be .data,
+// copied from flash; this way they are .bss and the constructor's code is much smaller.
+union BankStorage {
+  constexpr BankStorage() : none() {}
+  char none;
+  firmware::ControllerBank bank;
+} g_bank_storage;
+firmware::ControllerBank& g_bank = g_bank_storage.bank;
 firmware::HeaterManager g_heater(g_bank);
-control::Autotune g_autotune;  // zero-initialised: .bss
-firmware::AutotuneJob g_tune(g_bank, g_autotune);
+firmware::AutotuneJob g_tune(g_bank);  // its engine borrows the bank's controller storage
 firmware::ControlLoop g_loop(g_heater, g_tune);
 firmware::HotendMachine g_machine(g_heater, g_loop, g_bank, g_tune, g_out);
 gcode::Interpreter g_gcode(g_machine, g_out);
@@ -76,7 +84,16 @@ void step_while_writing() {
 
 }  // namespace
 
+// The constructors above name the abstract base's vtable, whose empty slots point here; no
+// such call can happen. If one did: heater off, and the watchdog resets the board.
+extern "C" void __cxa_pure_virtual() {
+  hal::heater_pwm::force_off();
+  hal::watchdog::enable();
+  hal::watchdog::hang_until_reset();
+}
+
 int main() {
+  new (&g_bank_storage.bank) firmware::ControllerBank(firmware::load_surface_cell);  // no output yet
   // The heater outputs are already low: .init3 (hal/startup.cpp) ran before this.
   hal::gpio::drive_low(board::kPartFan);
   hal::sleep::init();

@@ -83,8 +83,7 @@ class TuneMachine final : public gcode::Machine {
 
   firmware::ControllerBank bank{controller_test::load_cell};
   firmware::ControllerCommands commands{bank};
-  control::Autotune engine;
-  firmware::AutotuneJob job{bank, engine};
+  firmware::AutotuneJob job{bank};
   int32_t measured_q8 = 25L * 256, target_q8 = 0;
   uint16_t duty_q16 = 0;
   uint8_t fan = 0;

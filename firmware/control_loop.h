@@ -16,7 +16,8 @@ namespace firmware {
 
 class ControlLoop {
  public:
-  ControlLoop(HeaterManager& heater, AutotuneJob& tune) : heater_(heater), tune_(tune) {}
+  // constexpr: constant-initialised (a start-up constructor storing its zeros cost ~450 B of flash).
+  constexpr ControlLoop(HeaterManager& heater, AutotuneJob& tune) : heater_(heater), tune_(tune) {}
 
   // One period from the window's adc_q6 (mean ADC code x 64).
   void run(uint16_t adc_q6);

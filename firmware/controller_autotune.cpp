@@ -123,23 +123,20 @@ bool AutotuneJob::report(gcode::Output& out, const HandOver& now) {
     out.end_line();
   }
   if ((pending & kEnded) == 0) return false;
-  // What the engine found, copied before its storage goes back to the controllers (rebuilt from
-  // the settings in force, so U0, a failure and an abort leave them as they were).
-  const bool finished = tune_.state() == control::AutotuneState::kFinished;
-  const control::AutotuneFailure failure = tune_.failure();
-  const control::AutotuneResult result = tune_.result();
-  bank_.end_autotune();
-  if (finished) {
-    write_result(out, now, result);
+  if (tune_.state() == control::AutotuneState::kFinished) {
+    write_result(out, now);
   } else {
-    write_failure(out, failure);
+    write_failure(out);
   }
+  // The engine's storage back to the controllers, built from the settings in force: U1's (set
+  // above while the bank still lent it: one configure, as for an M301), or the unchanged ones.
+  bank_.end_autotune();
   return true;
 }
 
-void AutotuneJob::write_failure(gcode::Output& out, control::AutotuneFailure failure) const {
+void AutotuneJob::write_failure(gcode::Output& out) const {
   out.print(GCODE_TEXT("PID Autotune failed! "));
-  switch (failure) {
+  switch (tune_.failure()) {
     case control::AutotuneFailure::kTooHot: out.print(GCODE_TEXT("Temperature too high")); break;
     case control::AutotuneFailure::kTimeout: out.print(GCODE_TEXT("timeout")); break;
     case control::AutotuneFailure::kNoHeating:
@@ -156,7 +153,8 @@ void AutotuneJob::write_failure(gcode::Output& out, control::AutotuneFailure fai
   out.end_line();
 }
 
-void AutotuneJob::write_result(gcode::Output& out, const HandOver& now, const control::AutotuneResult& r) {
+void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
+  const control::AutotuneResult& r = tune_.result();
   control::TunedDesign d;
   if (!control::design_from_tune(r, kControlPeriodMs, &d)) {
     out.print(GCODE_TEXT("PID Autotune failed! Identified model outside the usable range: "));

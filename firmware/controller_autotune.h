@@ -56,8 +56,8 @@ class AutotuneJob {
 
  private:
   enum Pending : uint8_t { kCycleLine = 1, kUltimateLine = 2, kEnded = 4 };
-  void write_result(gcode::Output& out, const HandOver& now, const control::AutotuneResult& r);
-  void write_failure(gcode::Output& out, control::AutotuneFailure failure) const;
+  void write_result(gcode::Output& out, const HandOver& now);
+  void write_failure(gcode::Output& out) const;
 
   ControllerBank& bank_;
   control::Autotune& tune_;  // valid while bank_.autotuning()

@@ -34,12 +34,11 @@ union BankStorage {
   constexpr BankStorage() : none() {}
   char none;
   firmware::ControllerBank bank;
-} g_bank_storage;
-firmware::ControllerBank& g_bank = g_bank_storage.bank;
-firmware::HeaterManager g_heater(g_bank);
-firmware::AutotuneJob g_tune(g_bank);  // its engine borrows the bank's controller storage
+} g_boot;  // (named directly below: a reference variable would make the others start-up code)
+firmware::HeaterManager g_heater(g_boot.bank);
+firmware::AutotuneJob g_tune(g_boot.bank);  // its engine borrows the bank's controller storage
 firmware::ControlLoop g_loop(g_heater, g_tune);
-firmware::HotendMachine g_machine(g_heater, g_loop, g_bank, g_tune, g_out);
+firmware::HotendMachine g_machine(g_heater, g_loop, g_boot.bank, g_tune, g_out);
 gcode::Interpreter g_gcode(g_machine, g_out);
 
 bool has_work() {
@@ -93,7 +92,7 @@ extern "C" void __cxa_pure_virtual() {
 }
 
 int main() {
-  new (&g_bank_storage.bank) firmware::ControllerBank(firmware::load_surface_cell);  // no output yet
+  new (&g_boot.bank) firmware::ControllerBank(firmware::load_surface_cell);  // no output yet
   // The heater outputs are already low: .init3 (hal/startup.cpp) ran before this.
   hal::gpio::drive_low(board::kPartFan);
   hal::sleep::init();

@@ -92,7 +92,7 @@ struct QuotientRemainder {
 // avoids linking 64-bit multiply/divide into the firmware). Binary long multiplication modulo c:
 // walk b's bits from the top keeping a·(bits so far) = q·c + r. Needs 1 ≤ c ≤ 2^31 and
 // q < 2^32. About 32 iterations: not for per-sample code.
-constexpr QuotientRemainder mul_divmod_u32(uint32_t a, uint32_t b, uint32_t c) {
+__attribute__((noinline)) constexpr QuotientRemainder mul_divmod_u32(uint32_t a, uint32_t b, uint32_t c) {
   const uint32_t a_div = a / c;
   const uint32_t a_mod = a % c;
   uint32_t q = 0;

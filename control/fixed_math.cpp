@@ -37,7 +37,8 @@ Scaled make(bool negative, uint32_t mag, int32_t e) {
 
 Scaled scaled(int32_t v, int16_t e) { return make(v < 0, magnitude(v), e); }
 
-Scaled add(Scaled a, Scaled b) {
+// The operations are not inlined into each other (exp_neg, ln): set-up code, where flash counts.
+__attribute__((noinline)) Scaled add(Scaled a, Scaled b) {
   if (b.m == 0) return a;
   if (a.m == 0) return b;
   if (a.e < b.e) {
@@ -53,12 +54,12 @@ Scaled add(Scaled a, Scaled b) {
   return make(sum < 0, magnitude(sum), a.e);
 }
 
-Scaled sub(Scaled a, Scaled b) { return add(a, neg(b)); }
+__attribute__((noinline)) Scaled sub(Scaled a, Scaled b) { return add(a, neg(b)); }
 
 // Shift-and-add over the 30 bits of |b|: acc = (acc + bit·|a|)/2 each step, so acc < 2^30 and
 // acc + |a| < 2^31; the end value is |a·b|/2^30 less < 1 (the dropped bits), in [2^28 − 1, 2^30).
 // Smaller than four 16×16 products on AVR (set-up code: flash counts more than ~600 cycles).
-Scaled mul(Scaled a, Scaled b) {
+__attribute__((noinline)) Scaled mul(Scaled a, Scaled b) {
   if (a.m == 0 || b.m == 0) return Scaled{0, 0};
   const uint32_t x = magnitude(a.m);
   uint32_t y = magnitude(b.m), acc = 0;
@@ -72,7 +73,7 @@ Scaled mul(Scaled a, Scaled b) {
 
 // Restoring division: 31 quotient bits of |a|·2^30/|b| (|a|/|b| in (1/2, 2): q in (2^29, 2^31)),
 // the remainder < 2|b| < 2^31 before each doubling; rounded by the next bit.
-Scaled div(Scaled a, Scaled b) {
+__attribute__((noinline)) Scaled div(Scaled a, Scaled b) {
   if (a.m == 0 || b.m == 0) return Scaled{0, 0};
   const uint32_t mb = magnitude(b.m);
   uint32_t r = magnitude(a.m), q = 0;

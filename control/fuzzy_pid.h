@@ -41,7 +41,7 @@ constexpr FuzzyPidConfig fuzzy_seed002_config(const PidGains& base) {
 // (Centroid defuzzification keeps Δ within 1/6…17/6, so the extremes are never quite reached.)
 namespace detail {
 // x·num/den for x ≥ 0 without overflowing int32 (x may be near 2^30): split x = q·den + r.
-constexpr int32_t mul_frac(int32_t x, uint8_t num, uint8_t den) { return x / den * num + x % den * num / den; }
+__attribute__((noinline)) constexpr int32_t mul_frac(int32_t x, uint8_t num, uint8_t den) { return x / den * num + x % den * num / den; }
 constexpr PidGains mul_frac(const PidGains& g, uint8_t num, uint8_t den) {
   return PidGains{mul_frac(g.kp_q16, num, den), mul_frac(g.ki_q16, num, den), mul_frac(g.kd_q16, num, den)};
 }

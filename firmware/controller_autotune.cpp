@@ -129,8 +129,8 @@ bool AutotuneJob::report(gcode::Output& out, const HandOver& now) {
     write_failure(out);
   }
   // The engine's storage back to the controllers, built from the settings in force: U1's (set
-  // above while the bank still lent it: one configure, as for an M301), or the unchanged ones.
-  bank_.end_autotune();
+  // while the bank still lent it: one configure, as for an M301), or the unchanged ones.
+  bank_.end_autotune();  // (no-op if write_result did it)
   return true;
 }
 
@@ -218,6 +218,7 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
     return out.error_line(GCODE_TEXT("PID Autotune: the board's state-feedback constants were refused"));
   }
   if (const gcode::FlashText* refusal = bank_.apply(next, now)) return out.error_line(refusal);
+  bank_.end_autotune();  // built from `next` (the lines below let a due control step run first)
   out.print(GCODE_TEXT("echo:Autotune applied (U1): "));
   out.print(choice);
   write_m307(out, d.model);  // the design's dead time: see control/autotune_design.h

@@ -31,7 +31,8 @@ struct HandOver {
 
 class ControllerBank final : public control::Controller {
  public:
-  // constexpr: the global instance is constant-initialized (no start-up constructor code).
+  // constexpr: constant-initialisable (AutotuneJob binds to its engine storage at compile time);
+  // the firmware builds its instance at boot all the same (main.cpp: .bss, not a .data image).
   explicit constexpr ControllerBank(fuzzy::LoadCell load) : shared_(load), load_(load) {}
 
   // Start-up with settings apply() would accept without state-feedback constants (defaults).

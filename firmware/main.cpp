@@ -27,9 +27,10 @@ namespace {
 
 // Static objects, wired once: no heap. Constructors only store references.
 firmware::SerialOutput g_out;
-// Built at boot (main's first lines) rather than constant-initialised: its ~1.1 KB are mostly
-// zeros but not all (vtable pointers, the surface reader), so a constant image would be .data,
-// copied from flash; this way they are .bss and the constructor's code is much smaller.
+// The bank is built at boot (main's first line) rather than constant-initialised: its ~1.1 KB
+// are mostly zeros but not all (vtable pointers, the surface reader), so a constant image would
+// be 1.1 KB of .data copied from flash; built, it is .bss, for ~260 B of constructor code (the
+// rest of it is shared with ControllerBank::end_autotune, which rebuilds the controllers).
 union BankStorage {
   constexpr BankStorage() : none() {}
   char none;
@@ -83,8 +84,8 @@ void step_while_writing() {
 
 }  // namespace
 
-// The constructors above name the abstract base's vtable, whose empty slots point here; no
-// such call can happen. If one did: heater off, and the watchdog resets the board.
+// Building the bank at run time names control::Controller's vtable, whose pure slots point
+// here; no such call can happen. If one did: heater off, and the watchdog resets the board.
 extern "C" void __cxa_pure_virtual() {
   hal::heater_pwm::force_off();
   hal::watchdog::enable();

@@ -476,7 +476,8 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
     const uint32_t hb = (static_cast<uint32_t>(horizon_ticks_) + kTicksPerBin - 1) / kTicksPerBin + 1;
     horizon_bins_ = static_cast<uint8_t>(hb > kRingBins - 2 ? kRingBins - 2 : hb);
     if (hb > kRingBins - 2) untrusted_ = true;  // the response outlasts the model's history
-    guard_bins_ = static_cast<uint8_t>(2 * horizon_bins_ + 8);
+    guard_bins_ = static_cast<uint8_t>(horizon_bins_ > 62 ? 132 : 2 * horizon_bins_ + 8);
+    extend_timeout();
     set_approach_gain();
     return 21;
   }
@@ -514,6 +515,18 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   duty_q16_ = heater_on_ ? kFull : 0;
   heater_on_ = false;
   return 0;
+}
+
+// A fixed limit is wrong for a hotend whose heat-up alone takes 25 min (seed000): once the
+// probe has measured the response time L̂, the limit becomes the larger of the configured one and
+// now + (cycles in total + 4) × 6 L̂ (a relay cycle takes ≈ 4 L̂ on a dead-time hotend, the
+// approach a few L̂), but never more than 4 × the configured limit, so a stuck tune still ends.
+// L̂ < 2^16 ticks × 6 × ≤ 31 < 2^24; 4 × limit < 2^32 for limits < 2^30 ticks.
+void Autotune::extend_timeout() {
+  const uint32_t cycles = uint32_t{cycles_} + (measure_fan_ ? fan_skip_ + fan_measure_ : 0u) + 4u;
+  const uint32_t span = tick_ + cycles * 6u * static_cast<uint32_t>(horizon_ticks_ > 0xFFFF ? 0xFFFF : horizon_ticks_);
+  const uint32_t ceiling = timeout_ticks_ < (uint32_t{1} << 30) ? 4u * timeout_ticks_ : timeout_ticks_;
+  if (span > timeout_ticks_) timeout_ticks_ = span < ceiling ? span : ceiling;
 }
 
 // Approach: closed-loop time constant = the horizon (≥ 3 bins); P gain 1/(S·τ). One division:

@@ -88,13 +88,15 @@ class Autotune {
   static constexpr int32_t kTooHotMarginQ8 = 25L * 256;
   static constexpr uint8_t kMinCycles = 3;
   static constexpr uint8_t kMaxCycles = 20;
-  static constexpr uint8_t kMaxStoredCycles = 8;  // cycles kept for the T/L fit (the last ones)
-  static constexpr uint8_t kRingBins = 64;        // duty history: ≥ the longest horizon, in bins
+  static constexpr uint8_t kMaxStoredCycles = 6;  // cycles kept for the T/L fit (the last ones)
+  static constexpr uint8_t kRingBins = 72;        // duty history: ≥ the longest horizon, in bins
   static constexpr uint8_t kTicksPerBin = 8;      // 1.024 s at 128 ms
 
   constexpr Autotune() = default;
 
-  // Period of step() in ms (10..2000); timeout in s (default 30 min).
+  // Period of step() in ms (10..2000); timeout in s (default 30 min). Once the probe has measured
+  // the response time L̂ the limit grows to (cycles in total + 4) × 6 L̂ if that is longer, up to
+  // 4 × the configured one (slow hotends: seed000's heat-up alone takes 25 min).
   void configure(uint16_t period_ms, uint16_t timeout_s = 1800);
 
   // Starts a tune (false, and state kFailed/kBadParameters, if an argument is out of range):
@@ -145,6 +147,7 @@ class Autotune {
   void start_probe();
   int32_t steady_from_model() const;
   void set_approach_gain();
+  void extend_timeout();
   int32_t trend_q8() const;
   void set_levels();
   bool relay_tick(int32_t yf, int32_t y);  // true when a cycle ended

@@ -511,6 +511,7 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   full_bins_ = on;
   duty_avg_q16_ = 0;
   settled_bins_ = 0;
+  near_bins_ = 0;
   enter(Phase::kApproach);
   duty_q16_ = heater_on_ ? kFull : 0;
   heater_on_ = false;
@@ -665,6 +666,10 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       settled_bins_ = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? 4 * kSettleBandQ8 : kSettleBandQ8)
                           ? static_cast<uint8_t>(settled_bins_ + 1)
                           : 0;
+      // A P law on a slightly wrong loss stalls short of the target, and the loss learning's
+      // resolution (≈ 0.02 °C/bin of slope) may not move it (heavy-slow in simavr: 209.0 °C for
+      // an hour). Within 2 °C for 3 (L̂ + 2) bins is near enough: the relay's bias takes over.
+      near_bins_ = abs32(target_q8_ - y_bin_q8_) < 4 * kSettleBandQ8 ? static_cast<uint8_t>(near_bins_ < 255 ? near_bins_ + 1 : 255) : 0;
       // Crossings of the target (±0.3 °C): a slow hotend that the approach leaves swinging around
       // it goes to the relay at the second crossing, whose bias adaptation takes over.
       const int8_t side = y_bin_q8_ > target_q8_ + kQ8 * 3 / 10 ? 1 : (y_bin_q8_ < target_q8_ - kQ8 * 3 / 10 ? -1 : 0);
@@ -672,7 +677,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         if (side_ != 0) ++crossings_;
         side_ = side;
       }
-      return settled_bins_ >= horizon_bins_ + 2 || crossings_ >= 2 ? 7 : 0;
+      return settled_bins_ >= horizon_bins_ + 2 || near_bins_ >= 3 * (horizon_bins_ + 2) || crossings_ >= 2 ? 7 : 0;
     }
     default: {
       crossings_ = 0;
@@ -863,6 +868,7 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
       inv_t_q16_ = static_cast<uint16_t>(fixed::sat_u16(static_cast<int32_t>(
           inv_t_q16_ + ((uint32_t{inv_t_q16_} * 26214u) >> 16))));
       settled_bins_ = 0;
+  near_bins_ = 0;
       full_bins_ = 0;
       enter(Phase::kApproach);
     } else {

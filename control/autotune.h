@@ -244,6 +244,7 @@ class Autotune {
   int32_t gain_q8_ = 0;         // approach P gain: duty_q16 per temp_q8, × 256
   int32_t steady_q16_ = 0;      // ū: steady duty estimate (integral part)
   uint8_t settled_bins_ = 0;
+  uint8_t near_bins_ = 0;       // bins within 2 °C of the target (a stalled approach)
   int32_t ref_rise_q8_ = 0;
   int32_t ref_slope_q8_ = 0;     // loss learning: rise where the slope S was measured
   uint8_t full_bins_ = 0;       // consecutive bins at 100 % in the approach

@@ -167,8 +167,10 @@ TEST(Autotune, Table) {
   const char* trace = std::getenv("AUTOTUNE_TRACE");
   const char* cycles_env = std::getenv("AUTOTUNE_CYCLES");
   const uint8_t cycles = static_cast<uint8_t>(cycles_env != nullptr ? std::atoi(cycles_env) : 3);
+  const char* noise_env = std::getenv("AUTOTUNE_NOISE");  // reading noise σ °C (0.1)
+  const double noise = noise_env != nullptr ? std::atof(noise_env) : 0.1;
   for (const Plant& p : plants()) {
-    TuneRun r = run(p, cycles, true, 0.1, trace != nullptr && p.name == trace, 1.0, -1, false, 1800);  // the firmware's limit
+    TuneRun r = run(p, cycles, true, noise, trace != nullptr && p.name == trace, 1.0, -1, false, 1800);  // the firmware's limit
     const double budget = p.budget_s > 0 ? p.budget_s : r.heatup_s + 180;
     std::printf("%-16s %6.1f %6.1f %6.2f %6d | %7.1f %7.1f | %6.1f %6.1f | %6.2f %6.2f | %5.1f %5.1f | %5.2f | %5.0f %5.0f %5.0f max@%4.0f %s%s\n", p.name.c_str(),
                 r.duration_s, budget, r.max_c - p.target_c, r.cycles, q8(r.result.model.rise_q8), p.k,

@@ -68,6 +68,26 @@ uint32_t div_q16(uint32_t x, uint32_t den) {
   return den > 0 ? x / den : 0xFFFFFFFFu;
 }
 
+// The heat-up's tangent reads a hotend whose thermistor lags the block (two lags τ1 > τ2) with
+// too short a dead time: the designs want the FOPDT of a two-point fit (C.L. Smith's 28.3 % /
+// 63.2 % points, what hotend-sim designs the true-model controllers from), whose dead time is
+// 1.13–1.80 × the tangent's as τ2/τ1 goes from 0.01 to 0.5; the ratio is read off x = tangent
+// dead time / T (T = the heat-up's (K − rise)/S less the lag, which stays within 6 % of the fit's
+// T). Points from the exact two-lag step response at τ2/τ1 = 0, 0.02, 0.05, 0.1, 0.2, 0.3 (then
+// flat): x Q16, factor Q12; seed003 (τ2/τ1 = 0.5): 5.2 s → 9.4 s against the fit's 9.9 s.
+// Piecewise linear in code, not a table (a table would sit in AVR RAM): lag < 2^17, factor
+// < 2^13; (x − x0)·Δf < 2^13 · 2^10.
+int32_t two_point_dead_time(int32_t lag_q8, int32_t x_q16) {
+  int32_t x0 = 0, f0 = 4096, x1 = 1094, f1 = 4948;
+  if (x_q16 > 1094) x0 = 1094, f0 = 4948, x1 = 2386, f1 = 5689;
+  if (x_q16 > 2386) x0 = 2386, f0 = 5689, x1 = 4070, f1 = 6525;
+  if (x_q16 > 4070) x0 = 4070, f0 = 6525, x1 = 6416, f1 = 7188;
+  if (x_q16 > 6416) x0 = 6416, f0 = 7188, x1 = 7956, f1 = 7348;
+  // beyond the last point: flat (1.79–1.80 up to equal lags)
+  const int32_t f = x_q16 >= x1 ? f1 : f0 + (x_q16 - x0) * (f1 - f0) / (x1 - x0);
+  return static_cast<int32_t>((static_cast<uint32_t>(lag_q8) * static_cast<uint32_t>(f) + 2048u) >> 12);
+}
+
 }  // namespace
 
 constexpr int32_t Autotune::kMeasureAmbient;
@@ -1002,6 +1022,7 @@ bool Autotune::compute_chunk() {
       m.dead_time_q8 = l_sum_q8_ / count;
       return false;
     case 3:
+      c_a_hi_ = m.time_constant_q8;  // the relay's T (case 4 compares)
       if (continuous_ && k_q8_ > slope_rise_q8_) {
         // A lag-type hotend (its response started within the first pulse and steepened
         // smoothly): the relay's FOPDT formulas misread a lag as a long time constant. T from
@@ -1016,10 +1037,17 @@ bool Autotune::compute_chunk() {
       // the lag (the FOPDT equivalent of the heat-up, as a two-point fit of it: the M307 model's
       // initial rate A/C and its delay are what its model-following heat-up relies on).
       const int32_t lag = seconds_q8(static_cast<uint16_t>(horizon_ticks_));
+      c_log_ = 0;  // x for the next step: 0 = no lag seen
       if (continuous_ && k_q8_ > slope_rise_q8_) {
         if (m.time_constant_q8 > 2 * lag) m.time_constant_q8 -= lag;
         m.dead_time_q8 = lag;
-        result_.sensor_lag_q8 = lag;
+        // x = lag / T, Q16 (the next step turns it into the two-point dead time).
+        // x = lag / T, Q16 (the next step turns it into the two-point dead time), when the
+        // relay's FOPDT formulas saw a lag (their T > 1.5 × the heat-up's: 2.2–3.5 × on the
+        // two-node plants and seed003); a true FOPDT's tangent is right (fopdt-30-1: 1.18 ×).
+        if (2 * c_a_hi_ > 3 * m.time_constant_q8) {
+          c_log_ = static_cast<int32_t>(div_q16(static_cast<uint32_t>(lag), static_cast<uint32_t>(m.time_constant_q8)));
+        }
       } else if (slope_q8_ > 0 && !hot_start_) {
         // A cut probe (hot start, or a slower response): S = K/T at full power. The relay's FOPDT
         // formulas read a sensor lag as a long T (×3 on a lag-type hotend); K/S does not. Taken
@@ -1033,6 +1061,12 @@ bool Autotune::compute_chunk() {
       return false;
     }
     case 5:
+      if (c_log_ > 0) {
+        result_.sensor_lag_q8 = m.dead_time_q8;
+        m.dead_time_q8 = two_point_dead_time(m.dead_time_q8, c_log_);
+      }
+      return false;
+    case 6:
       result_.ultimate.ku_q8 = ku_count_ > 0 ? static_cast<int32_t>(ku_sum_q8_ / ku_count_) : 0;
       return false;
     default:

@@ -75,7 +75,8 @@ struct AutotuneUltimate {
 
 struct AutotuneResult {
   HotendModel model;        // M307 A C D F
-  int32_t sensor_lag_q8;    // second lag (s × 256), 0 when not identified
+  int32_t sensor_lag_q8;    // the heat-up tangent's dead time when the relay saw a lag (s × 256;
+                            // model D is then the two-point fit's), 0 otherwise
   AutotuneUltimate ultimate;  // averaged over the measured no-fan cycles
   int32_t ambient_q8;       // the ambient A is counted from
   bool hot_start;           // true when the tune started above ambient + 15 °C

@@ -548,6 +548,10 @@ void Autotune::extend_timeout() {
   const uint32_t span = tick_ + cycles * 6u * static_cast<uint32_t>(horizon_ticks_ > 0xFFFF ? 0xFFFF : horizon_ticks_);
   const uint32_t ceiling = timeout_ticks_ < (uint32_t{1} << 30) ? 4u * timeout_ticks_ : timeout_ticks_;
   if (span > timeout_ticks_) timeout_ticks_ = span < ceiling ? span : ceiling;
+  // Likewise a relay half-cycle may last 8 L̂ before the relay counts as stuck (600 s at least:
+  // seed000-4's fan half-cycle outlasted 600 s).
+  const uint32_t half = 8u * static_cast<uint32_t>(horizon_ticks_ > 0xFFFF ? 0xFFFF : horizon_ticks_);
+  if (half > t600_) t600_ = static_cast<uint16_t>(half > 65000u ? 65000u : half);
 }
 
 // Approach: closed-loop time constant = the horizon (≥ 3 bins); P gain 1/(S·τ). One division:
@@ -1041,7 +1045,6 @@ bool Autotune::compute_chunk() {
       if (continuous_ && k_q8_ > slope_rise_q8_) {
         if (m.time_constant_q8 > 2 * lag) m.time_constant_q8 -= lag;
         m.dead_time_q8 = lag;
-        // x = lag / T, Q16 (the next step turns it into the two-point dead time).
         // x = lag / T, Q16 (the next step turns it into the two-point dead time), when the
         // relay's FOPDT formulas saw a lag (their T > 1.5 × the heat-up's: 2.2–3.5 × on the
         // two-node plants and seed003); a true FOPDT's tangent is right (fopdt-30-1: 1.18 ×).
@@ -1064,6 +1067,17 @@ bool Autotune::compute_chunk() {
       if (c_log_ > 0) {
         result_.sensor_lag_q8 = m.dead_time_q8;
         m.dead_time_q8 = two_point_dead_time(m.dead_time_q8, c_log_);
+      } else if (!continuous_ && !hot_start_) {
+        // A cut probe whose cut-to-peak time is over 4 × the relay's dead time: no FOPDT peaks
+        // that late (there it is the dead time), two lags τ1 ≫ τ2 peak at τ2·ln(τ1/τ2)/(1 − τ2/τ1),
+        // 2–3 τ2 for τ2/τ1 = 0.2–0.05 (heavy-slow: 66 s, τ2 = 25 s). τ2 ≈ peak/2.5 is then the
+        // lag, and the two-point fit's dead time ≈ τ2 at such ratios. peak < 2^17: × 13,107 < 2^31.
+        const int32_t peak = seconds_q8(static_cast<uint16_t>(horizon_ticks_));
+        if (peak > 4 * m.dead_time_q8) {
+          const int32_t lag = static_cast<int32_t>((static_cast<uint32_t>(peak) * 13107u) >> 15);
+          result_.sensor_lag_q8 = lag;
+          if (m.dead_time_q8 < lag) m.dead_time_q8 = lag;
+        }
       }
       return false;
     case 6:

@@ -1088,6 +1088,7 @@ bool Autotune::compute_chunk() {
       m.rise_q8 = k_q8_;
       result_.ambient_q8 = ambient_q8_;
       result_.hot_start = hot_start_;
+      result_.unsure = untrusted_;
       return true;
   }
 }

@@ -80,6 +80,8 @@ struct AutotuneResult {
   AutotuneUltimate ultimate;  // averaged over the measured no-fan cycles
   int32_t ambient_q8;       // the ambient A is counted from
   bool hot_start;           // true when the tune started above ambient + 15 °C
+  bool unsure;              // the probe's response outlasted the model history (seed000): a
+                            // model to control with, not one to bound the heater tightly by
 };
 
 class Autotune {
@@ -307,7 +309,7 @@ class Autotune {
 
   AutotuneCycle cycle_{0, 0, 0, 0};
   AutotuneUltimate ultimate_{0, 0};
-  AutotuneResult result_{{0, 0, 0, 0}, 0, {0, 0}, 0, false};
+  AutotuneResult result_{{0, 0, 0, 0}, 0, {0, 0}, 0, false, false};
 };
 
 }  // namespace control

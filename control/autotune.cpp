@@ -150,10 +150,11 @@ bool Autotune::start(int32_t target_q8, uint8_t cycles, bool measure_fan, int32_
   ambient_given_ = ambient_q8 != kMeasureAmbient;
   ambient_q8_ = ambient_given_ ? ambient_q8 : kDefaultAmbientQ8;
   // Measured cycles: the first no-fan cycle settles the bias and is not used; then cycles − 1
-  // no-fan cycles; with the fan, one settling cycle and ⌈cycles/3⌉ measured ones.
+  // no-fan cycles; with the fan, one settling cycle and ⌈cycles/5⌉ measured ones (F is one mean
+  // duty: C5's second fan cycle added ≈ 5 % to the tune for no accuracy on the FOPDT plants).
   nofan_measure_ = static_cast<uint8_t>(cycles - 1);
   fan_skip_ = 1;
-  fan_measure_ = static_cast<uint8_t>((cycles + 2) / 3);
+  fan_measure_ = static_cast<uint8_t>((cycles + 4) / 5);
   start_q8_ = INT32_MIN;
   enter(Phase::kBaseline);
   return true;

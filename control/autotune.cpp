@@ -68,6 +68,26 @@ uint32_t div_q16(uint32_t x, uint32_t den) {
   return den > 0 ? x / den : 0xFFFFFFFFu;
 }
 
+// The heat-up's tangent reads a hotend whose thermistor lags the block (two lags τ1 > τ2) with
+// too short a dead time: the designs want the FOPDT of a two-point fit (C.L. Smith's 28.3 % /
+// 63.2 % points, what hotend-sim designs the true-model controllers from), whose dead time is
+// 1.13–1.80 × the tangent's as τ2/τ1 goes from 0.01 to 0.5; the ratio is read off x = tangent
+// dead time / T (T = the heat-up's (K − rise)/S less the lag, which stays within 6 % of the fit's
+// T). Points from the exact two-lag step response at τ2/τ1 = 0, 0.02, 0.05, 0.1, 0.2, 0.3 (then
+// flat): x Q16, factor Q12; seed003 (τ2/τ1 = 0.5): 5.2 s → 9.4 s against the fit's 9.9 s.
+// Piecewise linear in code, not a table (a table would sit in AVR RAM): lag < 2^17, factor
+// < 2^13; (x − x0)·Δf < 2^13 · 2^10.
+int32_t two_point_dead_time(int32_t lag_q8, int32_t x_q16) {
+  int32_t x0 = 0, f0 = 4096, x1 = 1094, f1 = 4948;
+  if (x_q16 > 1094) x0 = 1094, f0 = 4948, x1 = 2386, f1 = 5689;
+  if (x_q16 > 2386) x0 = 2386, f0 = 5689, x1 = 4070, f1 = 6525;
+  if (x_q16 > 4070) x0 = 4070, f0 = 6525, x1 = 6416, f1 = 7188;
+  if (x_q16 > 6416) x0 = 6416, f0 = 7188, x1 = 7956, f1 = 7348;
+  // beyond the last point: flat (1.79–1.80 up to equal lags)
+  const int32_t f = x_q16 >= x1 ? f1 : f0 + (x_q16 - x0) * (f1 - f0) / (x1 - x0);
+  return static_cast<int32_t>((static_cast<uint32_t>(lag_q8) * static_cast<uint32_t>(f) + 2048u) >> 12);
+}
+
 }  // namespace
 
 constexpr int32_t Autotune::kMeasureAmbient;
@@ -130,10 +150,11 @@ bool Autotune::start(int32_t target_q8, uint8_t cycles, bool measure_fan, int32_
   ambient_given_ = ambient_q8 != kMeasureAmbient;
   ambient_q8_ = ambient_given_ ? ambient_q8 : kDefaultAmbientQ8;
   // Measured cycles: the first no-fan cycle settles the bias and is not used; then cycles − 1
-  // no-fan cycles; with the fan, one settling cycle and ⌈cycles/3⌉ measured ones.
+  // no-fan cycles; with the fan, one settling cycle and ⌈cycles/5⌉ measured ones (F is one mean
+  // duty: C5's second fan cycle added ≈ 5 % to the tune for no accuracy on the FOPDT plants).
   nofan_measure_ = static_cast<uint8_t>(cycles - 1);
   fan_skip_ = 1;
-  fan_measure_ = static_cast<uint8_t>((cycles + 2) / 3);
+  fan_measure_ = static_cast<uint8_t>((cycles + 4) / 5);
   start_q8_ = INT32_MIN;
   enter(Phase::kBaseline);
   return true;
@@ -476,7 +497,8 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
     const uint32_t hb = (static_cast<uint32_t>(horizon_ticks_) + kTicksPerBin - 1) / kTicksPerBin + 1;
     horizon_bins_ = static_cast<uint8_t>(hb > kRingBins - 2 ? kRingBins - 2 : hb);
     if (hb > kRingBins - 2) untrusted_ = true;  // the response outlasts the model's history
-    guard_bins_ = static_cast<uint8_t>(2 * horizon_bins_ + 8);
+    guard_bins_ = static_cast<uint8_t>(horizon_bins_ > 62 ? 132 : 2 * horizon_bins_ + 8);
+    extend_timeout();
     set_approach_gain();
     return 21;
   }
@@ -510,10 +532,27 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   full_bins_ = on;
   duty_avg_q16_ = 0;
   settled_bins_ = 0;
+  near_bins_ = 0;
   enter(Phase::kApproach);
   duty_q16_ = heater_on_ ? kFull : 0;
   heater_on_ = false;
   return 0;
+}
+
+// A fixed limit is wrong for a hotend whose heat-up alone takes 25 min (seed000): once the
+// probe has measured the response time L̂, the limit becomes the larger of the configured one and
+// now + (cycles in total + 4) × 6 L̂ (a relay cycle takes ≈ 4 L̂ on a dead-time hotend, the
+// approach a few L̂), but never more than 4 × the configured limit, so a stuck tune still ends.
+// L̂ < 2^16 ticks × 6 × ≤ 31 < 2^24; 4 × limit < 2^32 for limits < 2^30 ticks.
+void Autotune::extend_timeout() {
+  const uint32_t cycles = uint32_t{cycles_} + (measure_fan_ ? fan_skip_ + fan_measure_ : 0u) + 4u;
+  const uint32_t span = tick_ + cycles * 6u * static_cast<uint32_t>(horizon_ticks_ > 0xFFFF ? 0xFFFF : horizon_ticks_);
+  const uint32_t ceiling = timeout_ticks_ < (uint32_t{1} << 30) ? 4u * timeout_ticks_ : timeout_ticks_;
+  if (span > timeout_ticks_) timeout_ticks_ = span < ceiling ? span : ceiling;
+  // Likewise a relay half-cycle may last 8 L̂ before the relay counts as stuck (600 s at least:
+  // seed000-4's fan half-cycle outlasted 600 s).
+  const uint32_t half = 8u * static_cast<uint32_t>(horizon_ticks_ > 0xFFFF ? 0xFFFF : horizon_ticks_);
+  if (half > t600_) t600_ = static_cast<uint16_t>(half > 65000u ? 65000u : half);
 }
 
 // Approach: closed-loop time constant = the horizon (≥ 3 bins); P gain 1/(S·τ). One division:
@@ -652,6 +691,10 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       settled_bins_ = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? 4 * kSettleBandQ8 : kSettleBandQ8)
                           ? static_cast<uint8_t>(settled_bins_ + 1)
                           : 0;
+      // A P law on a slightly wrong loss stalls short of the target, and the loss learning's
+      // resolution (≈ 0.02 °C/bin of slope) may not move it (heavy-slow in simavr: 209.0 °C for
+      // an hour). Within 2 °C for 3 (L̂ + 2) bins is near enough: the relay's bias takes over.
+      near_bins_ = abs32(target_q8_ - y_bin_q8_) < 4 * kSettleBandQ8 ? static_cast<uint8_t>(near_bins_ < 255 ? near_bins_ + 1 : 255) : 0;
       // Crossings of the target (±0.3 °C): a slow hotend that the approach leaves swinging around
       // it goes to the relay at the second crossing, whose bias adaptation takes over.
       const int8_t side = y_bin_q8_ > target_q8_ + kQ8 * 3 / 10 ? 1 : (y_bin_q8_ < target_q8_ - kQ8 * 3 / 10 ? -1 : 0);
@@ -659,7 +702,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         if (side_ != 0) ++crossings_;
         side_ = side;
       }
-      return settled_bins_ >= horizon_bins_ + 2 || crossings_ >= 2 ? 7 : 0;
+      return settled_bins_ >= horizon_bins_ + 2 || near_bins_ >= 3 * (horizon_bins_ + 2) || crossings_ >= 2 ? 7 : 0;
     }
     default: {
       crossings_ = 0;
@@ -850,6 +893,7 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
       inv_t_q16_ = static_cast<uint16_t>(fixed::sat_u16(static_cast<int32_t>(
           inv_t_q16_ + ((uint32_t{inv_t_q16_} * 26214u) >> 16))));
       settled_bins_ = 0;
+  near_bins_ = 0;
       full_bins_ = 0;
       enter(Phase::kApproach);
     } else {
@@ -983,6 +1027,7 @@ bool Autotune::compute_chunk() {
       m.dead_time_q8 = l_sum_q8_ / count;
       return false;
     case 3:
+      c_a_hi_ = m.time_constant_q8;  // the relay's T (case 4 compares)
       if (continuous_ && k_q8_ > slope_rise_q8_) {
         // A lag-type hotend (its response started within the first pulse and steepened
         // smoothly): the relay's FOPDT formulas misread a lag as a long time constant. T from
@@ -997,10 +1042,16 @@ bool Autotune::compute_chunk() {
       // the lag (the FOPDT equivalent of the heat-up, as a two-point fit of it: the M307 model's
       // initial rate A/C and its delay are what its model-following heat-up relies on).
       const int32_t lag = seconds_q8(static_cast<uint16_t>(horizon_ticks_));
+      c_log_ = 0;  // x for the next step: 0 = no lag seen
       if (continuous_ && k_q8_ > slope_rise_q8_) {
         if (m.time_constant_q8 > 2 * lag) m.time_constant_q8 -= lag;
         m.dead_time_q8 = lag;
-        result_.sensor_lag_q8 = lag;
+        // x = lag / T, Q16 (the next step turns it into the two-point dead time), when the
+        // relay's FOPDT formulas saw a lag (their T > 1.5 × the heat-up's: 2.2–3.5 × on the
+        // two-node plants and seed003); a true FOPDT's tangent is right (fopdt-30-1: 1.18 ×).
+        if (2 * c_a_hi_ > 3 * m.time_constant_q8) {
+          c_log_ = static_cast<int32_t>(div_q16(static_cast<uint32_t>(lag), static_cast<uint32_t>(m.time_constant_q8)));
+        }
       } else if (slope_q8_ > 0 && !hot_start_) {
         // A cut probe (hot start, or a slower response): S = K/T at full power. The relay's FOPDT
         // formulas read a sensor lag as a long T (×3 on a lag-type hotend); K/S does not. Taken
@@ -1014,6 +1065,23 @@ bool Autotune::compute_chunk() {
       return false;
     }
     case 5:
+      if (c_log_ > 0) {
+        result_.sensor_lag_q8 = m.dead_time_q8;
+        m.dead_time_q8 = two_point_dead_time(m.dead_time_q8, c_log_);
+      } else if (!continuous_ && !hot_start_) {
+        // A cut probe whose cut-to-peak time is over 4 × the relay's dead time: no FOPDT peaks
+        // that late (there it is the dead time), two lags τ1 ≫ τ2 peak at τ2·ln(τ1/τ2)/(1 − τ2/τ1),
+        // 2–3 τ2 for τ2/τ1 = 0.2–0.05 (heavy-slow: 66 s, τ2 = 25 s). τ2 ≈ peak/2.5 is then the
+        // lag, and the two-point fit's dead time ≈ τ2 at such ratios. peak < 2^17: × 13,107 < 2^31.
+        const int32_t peak = seconds_q8(static_cast<uint16_t>(horizon_ticks_));
+        if (peak > 4 * m.dead_time_q8) {
+          const int32_t lag = static_cast<int32_t>((static_cast<uint32_t>(peak) * 13107u) >> 15);
+          result_.sensor_lag_q8 = lag;
+          if (m.dead_time_q8 < lag) m.dead_time_q8 = lag;
+        }
+      }
+      return false;
+    case 6:
       result_.ultimate.ku_q8 = ku_count_ > 0 ? static_cast<int32_t>(ku_sum_q8_ / ku_count_) : 0;
       return false;
     default:
@@ -1021,6 +1089,7 @@ bool Autotune::compute_chunk() {
       m.rise_q8 = k_q8_;
       result_.ambient_q8 = ambient_q8_;
       result_.hot_start = hot_start_;
+      result_.unsure = untrusted_;
       return true;
   }
 }

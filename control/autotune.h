@@ -75,10 +75,13 @@ struct AutotuneUltimate {
 
 struct AutotuneResult {
   HotendModel model;        // M307 A C D F
-  int32_t sensor_lag_q8;    // second lag (s × 256), 0 when not identified
+  int32_t sensor_lag_q8;    // the heat-up tangent's dead time when the relay saw a lag (s × 256;
+                            // model D is then the two-point fit's), 0 otherwise
   AutotuneUltimate ultimate;  // averaged over the measured no-fan cycles
   int32_t ambient_q8;       // the ambient A is counted from
   bool hot_start;           // true when the tune started above ambient + 15 °C
+  bool unsure;              // the probe's response outlasted the model history (seed000): a
+                            // model to control with, not one to bound the heater tightly by
 };
 
 class Autotune {
@@ -88,13 +91,15 @@ class Autotune {
   static constexpr int32_t kTooHotMarginQ8 = 25L * 256;
   static constexpr uint8_t kMinCycles = 3;
   static constexpr uint8_t kMaxCycles = 20;
-  static constexpr uint8_t kMaxStoredCycles = 8;  // cycles kept for the T/L fit (the last ones)
-  static constexpr uint8_t kRingBins = 64;        // duty history: ≥ the longest horizon, in bins
+  static constexpr uint8_t kMaxStoredCycles = 6;  // cycles kept for the T/L fit (the last ones)
+  static constexpr uint8_t kRingBins = 72;        // duty history: ≥ the longest horizon, in bins
   static constexpr uint8_t kTicksPerBin = 8;      // 1.024 s at 128 ms
 
   constexpr Autotune() = default;
 
-  // Period of step() in ms (10..2000); timeout in s (default 30 min).
+  // Period of step() in ms (10..2000); timeout in s (default 30 min). Once the probe has measured
+  // the response time L̂ the limit grows to (cycles in total + 4) × 6 L̂ if that is longer, up to
+  // 4 × the configured one (slow hotends: seed000's heat-up alone takes 25 min).
   void configure(uint16_t period_ms, uint16_t timeout_s = 1800);
 
   // Starts a tune (false, and state kFailed/kBadParameters, if an argument is out of range):
@@ -145,6 +150,7 @@ class Autotune {
   void start_probe();
   int32_t steady_from_model() const;
   void set_approach_gain();
+  void extend_timeout();
   int32_t trend_q8() const;
   void set_levels();
   bool relay_tick(int32_t yf, int32_t y);  // true when a cycle ended
@@ -202,6 +208,7 @@ class Autotune {
   uint8_t cycles_ = 0;
   bool measure_fan_ = false;
   uint16_t t6_ = 0, t40_ = 0, t60_ = 0, t90_ = 0, t600_ = 0;  // ticks in 6, 40, 60, 90, 600 s
+                                                             // (t600_: ≥ 8 L̂ after the probe)
   uint32_t tick_s_whole_ = 0;  // s × 256 per tick: whole and Q16 fraction (seconds_q8)
   uint16_t tick_s_frac_ = 0;
 
@@ -241,6 +248,7 @@ class Autotune {
   int32_t gain_q8_ = 0;         // approach P gain: duty_q16 per temp_q8, × 256
   int32_t steady_q16_ = 0;      // ū: steady duty estimate (integral part)
   uint8_t settled_bins_ = 0;
+  uint8_t near_bins_ = 0;       // bins within 2 °C of the target (a stalled approach)
   int32_t ref_rise_q8_ = 0;
   int32_t ref_slope_q8_ = 0;     // loss learning: rise where the slope S was measured
   uint8_t full_bins_ = 0;       // consecutive bins at 100 % in the approach
@@ -301,7 +309,7 @@ class Autotune {
 
   AutotuneCycle cycle_{0, 0, 0, 0};
   AutotuneUltimate ultimate_{0, 0};
-  AutotuneResult result_{{0, 0, 0, 0}, 0, {0, 0}, 0, false};
+  AutotuneResult result_{{0, 0, 0, 0}, 0, {0, 0}, 0, false, false};
 };
 
 }  // namespace control

@@ -13,6 +13,13 @@ bool design_from_tune(const AutotuneResult& tune, uint16_t period_ms, TunedDesig
   int32_t l_q8 = tune.model.dead_time_q8;
   const int32_t quarter_tu_q8 = tune.ultimate.tu_q8 / 4;
   if (l_q8 < quarter_tu_q8) l_q8 = quarter_tu_q8;
+  // A lag-type hotend (the tune saw a thermistor lag): its FOPDT stands for two lags, and the
+  // designs' dead-time predictor then overshoots unless L has a margin growing with lag/C:
+  // L·(1 + 2.5·lag/C) (the board's state feedback on seed003, host: D 9.4 → 7.5 °C, 11.5 → 0.2,
+  // 12 → 0). L < 2^18, 5·lag < 2^20: mul_div_u32 keeps the 64-bit product's quotient.
+  if (tune.sensor_lag_q8 > 0 && l_q8 > 0) {
+    l_q8 += static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(l_q8), 5UL * static_cast<uint32_t>(tune.sensor_lag_q8), 2UL * t_q8));
+  }
   if (l_q8 < kMinDesignDeadTimeQ8) l_q8 = kMinDesignDeadTimeQ8;
   if (l_q8 > kModelMaxDeadTimeQ8) return false;
   out->model.dead_time_q8 = l_q8;  // the feedforward's heat-up must respect the same delay

@@ -210,6 +210,11 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   // time constant then come from a short decay (fopdt-fast after M109 S200: C 39 s for 30 s),
   // and the tight check tripped on the next heat-up. Such a model keeps the default's margin.
   next.model_tuned = r.hot_start ? 0 : 1;
+  // Likewise a lag-dominated hotend (thermistor lag > 5 % of C): a FOPDT reaches its full slope
+  // sooner than two lags do, and the tight check tripped on seed003's first heat-up.
+  // And a model from a probe whose response outlasted the history (seed000-4: D 44 s against
+  // a 163 s dead time): tight bounds from it tripped on the first heat-up.
+  if (20 * r.sensor_lag_q8 > r.model.time_constant_q8 || r.unsure) next.model_tuned = 0;
   next.pid = d.pid;
   next.controller = static_cast<uint8_t>(use_sf ? ControllerId::kStateFeedback : ControllerId::kPid);
   next.feedforward = 1;

@@ -125,7 +125,7 @@ TuneRun run(const Plant& p, uint8_t cycles = 3, bool fan = true, double noise = 
   at.start(static_cast<int32_t>(std::lround(p.target_c * 256)), cycles, fan);
   const double t0 = sim.time_s();
   bool below = false;
-  for (int i = 0; i < 60000; ++i) {
+  for (int i = 0; i < 160000; ++i) {
     const double m = sim.measured_c();
     const control::AutotuneOutput out = at.step(static_cast<int32_t>(std::lround(m * 256)));
     if (at.phase() == Autotune::Phase::kApproach && r.approach_s == 0) r.approach_s = sim.time_s() - t0;
@@ -163,9 +163,14 @@ TEST(Autotune, Table) {
   std::printf("%-16s %6s %6s %6s %6s | %7s %7s | %6s %6s | %6s %6s | %5s %5s | %5s\n", "plant", "dur s", "budget", "maxS", "cyc",
               "K id", "K true", "T id", "T true", "L id", "L true", "F id", "F tru", "lag");
   // AUTOTUNE_TRACE=<plant> prints that plant's run bin by bin first (a diagnostic, not a test).
+  // AUTOTUNE_CYCLES=<C> runs that many relay cycles (default 3; M303's default is 5).
   const char* trace = std::getenv("AUTOTUNE_TRACE");
+  const char* cycles_env = std::getenv("AUTOTUNE_CYCLES");
+  const uint8_t cycles = static_cast<uint8_t>(cycles_env != nullptr ? std::atoi(cycles_env) : 3);
+  const char* noise_env = std::getenv("AUTOTUNE_NOISE");  // reading noise σ °C (0.1)
+  const double noise = noise_env != nullptr ? std::atof(noise_env) : 0.1;
   for (const Plant& p : plants()) {
-    TuneRun r = run(p, 3, true, 0.1, trace != nullptr && p.name == trace);
+    TuneRun r = run(p, cycles, true, noise, trace != nullptr && p.name == trace, 1.0, -1, false, 1800);  // the firmware's limit
     const double budget = p.budget_s > 0 ? p.budget_s : r.heatup_s + 180;
     std::printf("%-16s %6.1f %6.1f %6.2f %6d | %7.1f %7.1f | %6.1f %6.1f | %6.2f %6.2f | %5.1f %5.1f | %5.2f | %5.0f %5.0f %5.0f max@%4.0f %s%s\n", p.name.c_str(),
                 r.duration_s, budget, r.max_c - p.target_c, r.cycles, q8(r.result.model.rise_q8), p.k,
@@ -180,8 +185,8 @@ TEST(Autotune, Table) {
 // measured figure so that the table in the report and these tests agree; anything else failing is
 // a regression.
 // Slow plants whose probe model is untrusted (response beyond the model history, or no clean
-// peak): the tune goes slowly and safely and need not finish (firmware limit 1800 s); only the
-// S + 5 °C bound is asserted.
+// peak) or lag-type with a long lag: the tune goes slowly and safely; it finishes within the
+// firmware's limit (1800 s grown by the measured response time), not within the duration target.
 const std::set<std::string> kSeed000 = {"seed000-4", "seed000-5", "heavy-slow"};
 
 bool in(const std::set<std::string>& s, const std::string& n) { return s.count(n) > 0; }
@@ -190,7 +195,7 @@ class AutotunePlants : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     runs_ = new std::vector<TuneRun>();
-    for (const Plant& p : plants()) runs_->push_back(run(p));
+    for (const Plant& p : plants()) runs_->push_back(run(p, 3, true, 0.1, false, 1.0, -1, false, 1800));
   }
   static void TearDownTestSuite() { delete runs_; }
   static std::vector<TuneRun>* runs_;
@@ -202,10 +207,6 @@ TEST_F(AutotunePlants, FinishAndStayWithinTargetPlus5) {
   for (size_t i = 0; i < ps.size(); ++i) {
     const Plant& p = ps[i];
     const TuneRun& r = (*runs_)[i];
-    if (in(kSeed000, p.name)) {
-      EXPECT_LE(r.max_c, p.target_c + 5.0) << p.name;
-      continue;
-    }
     EXPECT_EQ(r.state, AutotuneState::kFinished) << p.name << " failure " << static_cast<int>(r.failure);
     EXPECT_EQ(r.overruns, 0) << p.name;
     EXPECT_LE(r.max_c, p.target_c + 5.0) << p.name;
@@ -300,11 +301,20 @@ TEST(Autotune, DeadHeaterIsNoHeating) {
   EXPECT_LT(r.duration_s, 600);  // 4 pulses, each ×4 longer, and a minute's wait after each
 }
 
-TEST(Autotune, TimesOut) {
+TEST(Autotune, TimesOutAtTheLimitGrownByTheMeasuredResponseTime) {
+  // 60 s configured: the probe (≈ 20 s) measures L̂ ≈ 3.7 s, and (3 + 2 fan cycles + 4) × 6 L̂
+  // ≈ 200 s after it is longer (the ceiling 4 × 60 s is not reached): the tune, which needs
+  // ≈ 280 s, times out there.
   const TuneRun r = run(plants()[0], 3, true, 0.1, false, 1.0, -1, false, 60);
   EXPECT_EQ(r.state, AutotuneState::kFailed);
   EXPECT_EQ(r.failure, AutotuneFailure::kTimeout);
-  EXPECT_NEAR(r.duration_s, 60, 0.3);
+  EXPECT_GT(r.duration_s, 200);
+  EXPECT_LE(r.duration_s, 240.2);
+  // A heater too weak to reach the target (a stuck tune) still ends, by the firmware's 30 min
+  // grown to at most 2 h.
+  const TuneRun weak = run(plants()[0], 5, true, 0.1, false, 0.3);
+  EXPECT_EQ(weak.state, AutotuneState::kFailed);
+  EXPECT_LE(weak.duration_s, 7200.2);
 }
 
 TEST(Autotune, AbortAndBadParameters) {

@@ -167,9 +167,9 @@ __attribute__((noinline)) uint16_t ControllerBank::step_pid_family(const control
 
 // PID with F1: model following (control/feedforward.h, ModelReference). The feedforward is the
 // model's time-optimal heat-up, and P and I see reference − measured, so they correct only what
-// the model did not predict (docs/controllers.md, feedforward). Fuzzy-PID and Marlin keep the
-// plain steady feedforward: fuzzy-PID's step is ~2,800 cycles, and the model's ~+700 (measured
-// in the simulator, with the tick interrupts) would break the 3,000-cycle budget.
+// the model did not predict (docs/controllers.md, feedforward). Marlin keeps the plain steady
+// feedforward; fuzzy-PID runs the model only until it takes over (step_fuzzy): both in one
+// period would take its ~2,800-cycle step past the 3,000-cycle budget.
 __attribute__((noinline)) uint16_t ControllerBank::step_model_following(const control::StepInput& in) {
   if (!reference_started_) reference_.start(in.measured_q8, reference_holds_ ? in.target_q8 : in.measured_q8);
   reference_started_ = true;

@@ -87,6 +87,9 @@ class ModelReference {
   void start(int32_t measured_q8, int32_t x_q8);
   // One control period: steady_q16 is Feedforward::duty_q16 for the target and fan.
   Output step(int32_t target_q8, uint16_t steady_q16);
+  // True once the model rests at the target, its delayed output included: the heat-up (or
+  // cool-down) the model plans is over and the steady duty holds it there.
+  bool holds(int32_t target_q8) const { return x_q16_ == target_q8 * 256 && reference_q8_ == target_q8; }
 
  private:
   struct Rate {

@@ -75,6 +75,7 @@ class FuzzyPid final : public Controller {
   void reset() override;
   void init_bumpless(int32_t measured_q8, uint16_t duty_q16) override;
   void set_feedforward(uint16_t duty_q16) { pid_.set_feedforward(duty_q16); }
+  void preset_integral(uint16_t duty_q16) { pid_.preset_integral(duty_q16); }
 
   const FuzzyPidConfig& config() const { return config_; }
   // The supervisor runs over four step() calls (inputs, surfaces, kp/ki, kd and apply); the

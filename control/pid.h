@@ -84,6 +84,14 @@ class Pid final : public Controller {
   // keeps I + F within 0..100 %, so F + I never winds past the actuator.
   void set_feedforward(uint16_t duty_q16);
 
+  // I := duty_q16 (on top of the feedforward, within 0..100 %): a heat-up can start from the
+  // steady duty a model predicts instead of building it from the error (fuzzy-PID, whose rules
+  // shrink ki far from the target).
+  void preset_integral(uint16_t duty_q16) {
+    integrator_q32_ = static_cast<uint32_t>(feedforward_q16_) << 16;
+    move_integrator(static_cast<uint32_t>(duty_q16) << 16, false);
+  }
+
   PidGains gains() const { return gains_; }
   uint16_t period_ms() const { return period_ms_; }
 

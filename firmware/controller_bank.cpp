@@ -138,7 +138,21 @@ void ControllerBank::end_autotune() {
 void ControllerBank::prepare_feedforward(int32_t target_q8, uint8_t fan_duty) {
   ff_target_q8_ = target_q8;
   ff_fan_ = fan_duty;
-  const uint16_t ff_q16 = settings_.feedforward != 0 ? feedforward_.duty_q16(target_q8, fan_duty) : 0;
+  // F0 still gets the part fan's share (PID and fuzzy-PID): the fan is a measured load with a
+  // known loss (M307 F), and behind a 20 s dead time feedback alone sees it 20 s late (SIMC PI:
+  // 28–45 °C dips on the seeds). Marlin's PID_FAN_SCALING adds a fan term for the same reason.
+  // The Marlin-style baseline keeps Marlin's default (none).
+  uint16_t ff_q16 = 0;
+  uint16_t base_q16 = 0;
+  if (settings_.feedforward != 0) {
+    ff_q16 = feedforward_.duty_q16(target_q8, fan_duty);
+  } else if (settings_.model_tuned != 0 && active_id() != ControllerId::kMarlinPid) {
+    base_q16 = feedforward_.duty_q16(target_q8, 0);
+    if (fan_duty != 0) ff_q16 = static_cast<uint16_t>(feedforward_.duty_q16(target_q8, fan_duty) - base_q16);
+  }
+  // Kept for step_fuzzy's model heat-up with F0 (a division per period there took the fuzzy
+  // step to 2,994 cycles on seed000-5).
+  base_q16_ = base_q16;
   if (ff_q16 != ff_q16_) ff_applied_ = false;
   ff_q16_ = ff_q16;
 }
@@ -165,6 +179,7 @@ __attribute__((noinline)) uint16_t ControllerBank::step_pid_family(const control
   // The PID family's model feedforward (0 with M310 F0), handed over only when it changed.
   if (in.target_q8 != ff_target_q8_ || in.fan_duty != ff_fan_) prepare_feedforward(in.target_q8, in.fan_duty);
   if (settings_.feedforward != 0 && id == ControllerId::kPid) return step_model_following(in);
+  if (id == ControllerId::kFuzzyPid && (settings_.feedforward != 0 || settings_.model_tuned != 0)) return step_fuzzy(in);
   const bool update = !ff_applied_;
   ff_applied_ = true;
   switch (id) {
@@ -182,9 +197,9 @@ __attribute__((noinline)) uint16_t ControllerBank::step_pid_family(const control
 
 // PID with F1: model following (control/feedforward.h, ModelReference). The feedforward is the
 // model's time-optimal heat-up, and P and I see reference − measured, so they correct only what
-// the model did not predict (docs/controllers.md, feedforward). Fuzzy-PID and Marlin keep the
-// plain steady feedforward: fuzzy-PID's step is ~2,800 cycles, and the model's ~+700 (measured
-// in the simulator, with the tick interrupts) would break the 3,000-cycle budget.
+// the model did not predict (docs/controllers.md, feedforward). Marlin keeps the plain steady
+// feedforward; fuzzy-PID runs the model only until it takes over (step_fuzzy): both in one
+// period would take its ~2,800-cycle step past the 3,000-cycle budget.
 __attribute__((noinline)) uint16_t ControllerBank::step_model_following(const control::StepInput& in) {
   if (!reference_started_) reference().start(in.measured_q8, reference_holds_ ? in.target_q8 : in.measured_q8);
   reference_started_ = true;
@@ -199,6 +214,37 @@ __attribute__((noinline)) uint16_t ControllerBank::step_model_following(const co
       r.reference_q8 != in.target_q8 && in.measured_q8 < in.target_q8 ? in.measured_q8 : r.reference_q8;
   if (update) pid().set_feedforward(r.duty_q16);
   return pid().step(pid_target_q8, in.measured_q8);
+}
+
+// Fuzzy-PID with a model (M310 F1, or a measured M307 with F0): the heat-ups and cool-downs are
+// the model's (ModelReference: full power, or off, until the model's undelayed state reaches the
+// target, then its steady duty until the delayed output has too), and the fuzzy-PID takes over
+// only then, starting from the model's steady duty: as the feedforward with F1, as its integral
+// with F0 (so that the integral holds the target from the start and may learn a better value).
+// Seed 002's rules act near the target, where they were designed to; far from it on a 20 s
+// dead-time plant, P and I heat blind for 20 s and overshot 25–80 °C, and with F0 the integral
+// (ki cut by the rules there) took minutes to build the steady duty. One of the two runs per
+// period, so the step costs no more than the fuzzy-PID's own.
+__attribute__((noinline)) uint16_t ControllerBank::step_fuzzy(const control::StepInput& in) {
+  if (!reference_started_) {
+    // A take-over continues bumplessly from the present duty: the model rests at the target.
+    const int32_t start_q8 = reference_holds_ ? in.target_q8 : in.measured_q8;
+    reference().start(start_q8, start_q8);
+    reference_started_ = true;
+  }
+  if (!reference().holds(in.target_q8)) {
+    const uint16_t base_q16 = base_q16_;  // F0: the model's steady duty (prepare_feedforward)
+    const control::ModelReference::Output r = reference().step(in.target_q8, ff_q16_ + base_q16);
+    // The fuzzy-PID waits, ready to start from the model's steady duty.
+    fuzzy().reset();
+    fuzzy().set_feedforward(ff_q16_);
+    fuzzy().preset_integral(base_q16);
+    ff_applied_ = true;
+    return r.duty_q16;
+  }
+  if (!ff_applied_) fuzzy().set_feedforward(ff_q16_);
+  ff_applied_ = true;
+  return fuzzy().step(in);
 }
 
 }  // namespace firmware

@@ -83,6 +83,7 @@ class ControllerBank final : public control::Controller {
   control::Controller* active();
   uint16_t step_pid_family(const control::StepInput& in);
   uint16_t step_model_following(const control::StepInput& in);
+  uint16_t step_fuzzy(const control::StepInput& in);
   // nullptr if `next` can be applied with (sf_available) or without state-feedback constants.
   const gcode::FlashText* refusal(const Settings& next, bool sf_available) const;
   void commit(const Settings& next, const HandOver& now);
@@ -117,6 +118,7 @@ class ControllerBank final : public control::Controller {
   bool autotuning_ = false;
   bool sf_loaded_ = false;
   int32_t ff_target_q8_ = -1;  // input of the prepared feedforward (-1: none yet)
+  uint16_t base_q16_ = 0;     // F0 with a measured model: its steady duty at ff_target_q8_, no fan
   uint8_t ff_fan_ = 0;
   uint16_t ff_q16_ = 0;        // prepared feedforward duty (0 when M310 F0)
   bool ff_applied_ = false;    // the active controller holds its feedforward (PID with F1: model_ff_q16_)

@@ -31,7 +31,10 @@ ControllerSetup pid_family(const std::string& name, const PlantSpec& plant, doub
   const GainChoice g = gains_by_rule(plant, rule, target_c);
   s.gains = g.gains;
   s.gains_source = g.description;
-  if (feedforward) s.gcode.push_back(m307_command(hotend_model_for(plant)));
+  // The model goes with every controller that uses it (the tune sets it for all: M303 U1): the
+  // feedforward of F1, the part-fan term and fuzzy-PID's model heat-up of F0 (docs/controllers.md).
+  // The Marlin baseline ignores it.
+  if (controller != kMarlinPid) s.gcode.push_back(m307_command(hotend_model_for(plant)));
   if (controller == kFuzzyPid) s.gcode.push_back(kFuzzyConfig);
   s.gcode.push_back(select(controller, feedforward));
   return s;

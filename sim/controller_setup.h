@@ -1,9 +1,11 @@
 // The controllers the benchmark and the HIL tests compare, each as the G-code a host would send
 // to set it up on a given plant (M301 gains, M307 model, M311 state-feedback constants, M312
 // fuzzy configuration, M310 choice; docs/controllers.md), computed from the plant's model:
-//   pid        S0 F0   PID, gains by the default rule (SIMC PI, τc = 2τ, on the FOPDT fit)
+//   pid        S0 F0   PID, gains by the default rule (SIMC PI, τc = 2τ, on the FOPDT fit), the
+//                      M307 model (for the part-fan term)
 //   pid+ff     S0 F1   PID + model feedforward (M307), gains by kFeedforwardGainRule
-//   fuzzy      S2 F0   fuzzy-PID around the pid gains (seed 002's quantisation factors)
+//   fuzzy      S2 F0   fuzzy-PID around the pid gains (seed 002's quantisation factors), the M307
+//                      model (its heat-up and the part-fan term)
 //   fuzzy+ff   S2 F1   fuzzy-PID around the pid+ff gains, with the feedforward
 //   statefb    S1      state feedback + feedforward, constants designed from the plant's model
 //   marlin-zn  S3 F0   baseline: Marlin's PID structure, classic Ziegler–Nichols relay gains

@@ -71,13 +71,15 @@ TEST(ControllerSetup, EachControllerSendsItsChoiceLast) {
   const PlantSpec& p = plant("seed004");
   const ControllerSetup pid = controller_setup("pid", p, 210.0);
   ASSERT_TRUE(pid.gains);
-  EXPECT_EQ(pid.gcode, std::vector<std::string>{"M310 S0 F0"});
+  // The model goes with F0 too (its part-fan term), as M303 U1 sets it for every controller.
+  EXPECT_EQ(pid.gcode, (std::vector<std::string>{"M307 A450 C25.5 D19.5 F42.647", "M310 S0 F0"}));
   const ControllerSetup ff = controller_setup("pid+ff", p, 210.0);
   EXPECT_EQ(ff.gcode, (std::vector<std::string>{"M307 A450 C25.5 D19.5 F42.647", "M310 S0 F1"}));
   EXPECT_GT(ff.gains->kp, pid.gains->kp);  // SIMC τc = τ is tighter than the default τc = 2τ
   const ControllerSetup fuzzy = controller_setup("fuzzy+ff", p, 210.0);
   EXPECT_EQ(fuzzy.gcode.back(), "M310 S2 F1");
   EXPECT_EQ(fuzzy.gcode[1].rfind("M312 ", 0), 0u);
+  EXPECT_EQ(controller_setup("marlin-zn", p, 210.0).gcode.size(), 1u);  // the baseline: no model
   const ControllerSetup sf = controller_setup("statefb", p, 210.0);
   EXPECT_FALSE(sf.gains);
   ASSERT_EQ(sf.gcode.size(), 15u);

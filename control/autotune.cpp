@@ -893,7 +893,7 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
       inv_t_q16_ = static_cast<uint16_t>(fixed::sat_u16(static_cast<int32_t>(
           inv_t_q16_ + ((uint32_t{inv_t_q16_} * 26214u) >> 16))));
       settled_bins_ = 0;
-  near_bins_ = 0;
+      near_bins_ = 0;
       full_bins_ = 0;
       enter(Phase::kApproach);
     } else {

@@ -40,6 +40,8 @@ constexpr int32_t kAssumedSlopeQ8PerS = 20 * kQ8;  // worst-case heating rate fo
 constexpr int32_t kSettleBandQ8 = kQ8 / 2;  // |target − reading| for the relay to start
 constexpr int32_t kAmplitudeQ8 = kQ8 * 3 / 2;   // relay half amplitude aimed at
 constexpr int32_t kHysteresisQ8 = kQ8 / 5;
+constexpr int32_t kTrendNoiseQ8 = 4;            // untrusted trend: a 4-bin slope under 1/64 °C/bin is noise (σ 0.2 °C: ±0.025)
+constexpr int32_t kPeakDropQ8 = kQ8 / 8;        // probe: past the peak once this far below it (smoothed)
 constexpr int32_t kGuardMarginQ8 = 2 * kQ8;     // untrusted model: relay's trend limit above target      // relay switches at target ± 0.2 °C (filtered)
 constexpr uint16_t kMinDutyStepQ16 = 328;       // d ≥ 0.5 %
 constexpr uint16_t kMaxDutyStepQ16 = 16384;     // d ≤ 25 %
@@ -469,11 +471,18 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     return 0;
   }
   if (!peaked_) {
-    if (dev_q8_ > dev_peak_q8_) {
-      dev_peak_q8_ = dev_q8_;
-      peak_bin_ = k;
-      y_peak_q8_ = y_bin_q8_;
-    } else if ((k - peak_bin_ >= 2 && dev_q8_ < dev_peak_q8_ - kQ8 / 16) || since_off > t90_) {
+    // The peak on the deviations smoothed 1-2-1 (centred on bin k − 1; the bin noise × 0.6,
+    // and each against its own bin's baseline, so a hot start's decay does not bias it): on one
+    // bin, σ = 0.2 °C readings (0.07 °C per bin) passed for a 1/16 °C drop long before the peak
+    // of a slow hotend (seed000-4: cut-to-peak 41 s against 88 s at σ = 0.1), and the short dead
+    // time made its model trusted. Sum ≤ 4 · 2^17.
+    const int32_t dev_s = div2n<2>(dev_prev2_q8_ + 2 * dev_prev_q8_ + dev_q8_ + 2);
+    if (dev_s > dev_peak_q8_) {
+      dev_peak_q8_ = dev_s;
+      peak_bin_ = static_cast<uint16_t>(k - 1);
+      // The reading there: bin k − 1's baseline is one bin's decay above this one's.
+      y_peak_q8_ = dev_s + ambient_q8_ + base_rise_q8_ + fixed::mul_q16(base_rise_q8_, base_rate_q16_);
+    } else if ((k - peak_bin_ >= 3 && dev_s < dev_peak_q8_ - kPeakDropQ8) || since_off > t90_) {
       // (after 90 s: a plateau, a near-integrating or very slow hotend: take the highest, and
       // do not trust the model it gives)
       if (since_off > t90_) untrusted_ = true;
@@ -549,9 +558,9 @@ void Autotune::extend_timeout() {
   const uint32_t span = tick_ + cycles * 6u * static_cast<uint32_t>(horizon_ticks_ > 0xFFFF ? 0xFFFF : horizon_ticks_);
   const uint32_t ceiling = timeout_ticks_ < (uint32_t{1} << 30) ? 4u * timeout_ticks_ : timeout_ticks_;
   if (span > timeout_ticks_) timeout_ticks_ = span < ceiling ? span : ceiling;
-  // Likewise a relay half-cycle may last 8 L̂ before the relay counts as stuck (600 s at least:
-  // seed000-4's fan half-cycle outlasted 600 s).
-  const uint32_t half = 8u * static_cast<uint32_t>(horizon_ticks_ > 0xFFFF ? 0xFFFF : horizon_ticks_);
+  // Likewise a relay half-cycle may last 12 L̂ before the relay counts as stuck (600 s at least:
+  // seed000-4's fan half-cycle outlasted 600 s, and 8 L̂ = 975 s once its L̂ was 122 s).
+  const uint32_t half = 12u * static_cast<uint32_t>(horizon_ticks_ > 0xFFFF ? 0xFFFF : horizon_ticks_);
   if (half > t600_) t600_ = static_cast<uint16_t>(half > 65000u ? 65000u : half);
 }
 
@@ -564,9 +573,11 @@ void Autotune::set_approach_gain() {
 }
 
 // Untrusted model: the reading a bin ahead by its 4-bin trend over guard_bins_ (rising only).
-// |s4| < 2^15 per bin, × ≤ 132.
+// The slope less kTrendNoiseQ8: σ = 0.2 °C readings give the 4-bin slope σ ≈ 6 (Q8 per bin),
+// × 132 bins ≈ ±3 °C of trend, which held seed000-5's approach short of the target until the
+// time limit. |s4| < 2^15 per bin, × ≤ 132.
 int32_t Autotune::trend_q8() const {
-  const int32_t s4 = div2n<2>(y_bin_q8_ - y_hist_q8_[3]);
+  const int32_t s4 = div2n<2>(y_bin_q8_ - y_hist_q8_[3]) - kTrendNoiseQ8;
   return s4 > 0 ? y_bin_q8_ + s4 * guard_bins_ : y_bin_q8_;
 }
 

@@ -208,7 +208,7 @@ class Autotune {
   uint8_t cycles_ = 0;
   bool measure_fan_ = false;
   uint16_t t6_ = 0, t40_ = 0, t60_ = 0, t90_ = 0, t600_ = 0;  // ticks in 6, 40, 60, 90, 600 s
-                                                             // (t600_: ≥ 8 L̂ after the probe)
+                                                             // (t600_: ≥ 12 L̂ after the probe)
   uint32_t tick_s_whole_ = 0;  // s × 256 per tick: whole and Q16 fraction (seconds_q8)
   uint16_t tick_s_frac_ = 0;
 

@@ -367,6 +367,7 @@ void Autotune::start_probe() {
   slope_max_q8_ = 0;
   slope_max_bin_ = 0;
   dev_peak_q8_ = INT32_MIN;
+  slope_rise_q8_ = INT32_MIN;  // the smoothed peak until the probe takes the tangent path
   duty_q16_ = kFull;
 }
 
@@ -471,18 +472,19 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     return 0;
   }
   if (!peaked_) {
-    // The peak on the deviations smoothed 1-2-1 (centred on bin k − 1; the bin noise × 0.6,
-    // and each against its own bin's baseline, so a hot start's decay does not bias it): on one
-    // bin, σ = 0.2 °C readings (0.07 °C per bin) passed for a 1/16 °C drop long before the peak
-    // of a slow hotend (seed000-4: cut-to-peak 41 s against 88 s at σ = 0.1), and the short dead
-    // time made its model trusted. Sum ≤ 4 · 2^17.
+    // The peak (timing, height) is the highest bin, but it counts as past only once the
+    // deviations smoothed 1-2-1 (bin noise × 0.6, each against its own bin's baseline) are 1/8 °C
+    // below their own highest: a 1/16 °C drop on one bin (σ 0.07 °C per bin at σ = 0.2 °C
+    // readings) passed for seed000-4's peak at 41 s (89–122 s at σ 0.1), a short dead time
+    // that made its model trusted (S + 17.5 °C). Sum ≤ 4 · 2^17.
     const int32_t dev_s = div2n<2>(dev_prev2_q8_ + 2 * dev_prev_q8_ + dev_q8_ + 2);
-    if (dev_s > dev_peak_q8_) {
-      dev_peak_q8_ = dev_s;
-      peak_bin_ = static_cast<uint16_t>(k - 1);
-      // The reading there: bin k − 1's baseline is one bin's decay above this one's.
-      y_peak_q8_ = dev_s + ambient_q8_ + base_rise_q8_ + fixed::mul_q16(base_rise_q8_, base_rate_q16_);
-    } else if ((k - peak_bin_ >= 3 && dev_s < dev_peak_q8_ - kPeakDropQ8) || since_off > t90_) {
+    int32_t& smooth_peak_q8 = slope_rise_q8_;  // unused on this (the cut) path: no RAM of its own
+    if (dev_s > smooth_peak_q8) smooth_peak_q8 = dev_s;
+    if (dev_q8_ > dev_peak_q8_) {
+      dev_peak_q8_ = dev_q8_;
+      peak_bin_ = k;
+      y_peak_q8_ = y_bin_q8_;
+    } else if ((k - peak_bin_ >= 2 && dev_s < smooth_peak_q8 - kPeakDropQ8) || since_off > t90_) {
       // (after 90 s: a plateau, a near-integrating or very slow hotend: take the highest, and
       // do not trust the model it gives)
       if (since_off > t90_) untrusted_ = true;

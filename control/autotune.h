@@ -293,7 +293,7 @@ class Autotune {
   int32_t k_q8_ = 0;            // K: °C × 256 per unit duty
   int32_t t_sum_q8_ = 0, l_sum_q8_ = 0;
   uint8_t tl_count_ = 0;
-  int32_t slope_rise_q8_ = 0;   // rise at the centre of the steepest heat-up window
+  int32_t slope_rise_q8_ = 0;   // rise at the centre of the steepest heat-up window (cut probe: its smoothed peak)
   int32_t c_mean_q8_ = 0, c_duty_ = 0;  // compute temporaries
   int32_t c_lambda_ = 0, c_ln_ = 0, c_log_ = 0, c_a_hi_ = 0, c_a_lo_ = 0;
   uint32_t c_theta_ = 0;

@@ -131,8 +131,13 @@ void ControllerBank::end_autotune() {
   autotuning_ = false;
   configure_pid_family(settings_);
   reference().configure(settings_.model, kControlPeriodMs);
-  if (sf_loaded_) sf_staging() = sf_.constants();
+  sync_staging();
   reset();  // the heater is off when a tune ends: the next target starts the controller afresh
+}
+
+void ControllerBank::sync_staging() {
+  if (autotuning_) return;  // the storage is M303's now; end_autotune() refills it
+  sf_staging() = sf_loaded_ ? sf_.constants() : control::StateFeedbackConstants{};
 }
 
 void ControllerBank::prepare_feedforward(int32_t target_q8, uint8_t fan_duty) {

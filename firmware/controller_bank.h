@@ -78,6 +78,8 @@ class ControllerBank final : public control::Controller {
   // M311's staging copy (ControllerCommands): in the shared storage too (M311 edits are refused
   // while M303 runs), so use it only while !autotuning().
   control::StateFeedbackConstants& sf_staging() { return shared_.controllers.staging; }
+  // The staging copy := the loaded state-feedback constants (zeros if none); not while M303 runs.
+  void sync_staging();
 
  private:
   control::Controller* active();

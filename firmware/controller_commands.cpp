@@ -151,14 +151,7 @@ void ControllerCommands::fuzzy(const gcode::Command& cmd, gcode::Output& out, co
   write_fuzzy(out);
 }
 
-void ControllerCommands::sync_staging() {
-  if (bank_.autotuning()) return;  // the storage is M303's now; end_autotune() refills it
-  if (bank_.state_feedback_loaded()) {
-    bank_.sf_staging() = bank_.state_feedback_constants();
-  } else {
-    bank_.sf_staging() = control::StateFeedbackConstants{};
-  }
-}
+void ControllerCommands::sync_staging() { bank_.sync_staging(); }
 
 // M570 T<°C> U<°C> P<s>: the protection's thresholds (RepRapFirmware's M570 and Prusa's M310
 // set heater-fault detection; the letters here are our own). All checked before any applies.

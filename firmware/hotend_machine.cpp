@@ -51,16 +51,13 @@ gcode::HeaterStatus HotendMachine::heater_status() {
                              heater_.fault() != Fault::kNone};
 }
 
-namespace {
-// While M303 runs, what would change the heater's target or the controllers is refused.
-const gcode::FlashText* busy_tuning() { return autotune_busy_text(); }
-}  // namespace
-
+// While M303 runs, what would change the heater's target or the controllers is refused
+// (autotune_busy_text()).
 bool HotendMachine::handle_command(const gcode::Command& cmd, gcode::Output& out) {
   if (cmd.letter == 'M' && cmd.code == 303) {
     const gcode::FlashText* refusal = heater_.fault() != Fault::kNone
                                           ? GCODE_TEXT("PID Autotune failed! Heater fault latched, send M999 to clear")
-                                          : (tune_.busy() ? busy_tuning() : nullptr);
+                                          : (tune_.busy() ? autotune_busy_text() : nullptr);
     if (tune_.begin(cmd, out, refusal, hal::fan_pwm::duty())) heater_.set_target_q8(tune_.target_q8());
     return true;
   }
@@ -68,7 +65,7 @@ bool HotendMachine::handle_command(const gcode::Command& cmd, gcode::Output& out
   const bool changes = cmd.letter == 'M' && ((cmd.code >= 307 && cmd.code <= 312) || cmd.code == 570) &&
                        cmd.params != nullptr && *cmd.params != '\0';
   if (changes && tune_.busy()) {
-    out.error_line(busy_tuning());
+    out.error_line(autotune_busy_text());
     return true;
   }
   return commands_.handle(cmd, out, hand_over());
@@ -91,14 +88,13 @@ void HotendMachine::background(gcode::Output& out) {
   // controllers take over only from the next target (HandOver: not heating).
   if (tune_.ended()) heater_.set_target_q8(0);
   if (!tune_.report(out, HandOver{loop_.temp_q8(), 0, false})) return;  // true only once ended
-  commands_.sync_staging();  // U1 may have loaded state-feedback constants: M311 edits those
   hal::fan_pwm::set_duty(tune_.fan_to_restore());
   bank_.prepare_feedforward(0, tune_.fan_to_restore());
 }
 
 const gcode::FlashText* HotendMachine::set_target_q8(int32_t target_q8) {
   if (tune_.busy()) {
-    if (target_q8 != 0) return busy_tuning();
+    if (target_q8 != 0) return autotune_busy_text();
     tune_.stop(AutotuneJob::Stop::kUser);  // M104 S0: the report ends the job, heater off now
   }
   const gcode::FlashText* refusal = heater_.set_target_q8(target_q8);
@@ -112,7 +108,7 @@ gcode::PidGainsQ16 HotendMachine::pid_gains() {
 }
 
 const gcode::FlashText* HotendMachine::set_pid_gains(const gcode::PidGainsQ16& gains) {
-  if (tune_.busy()) return busy_tuning();
+  if (tune_.busy()) return autotune_busy_text();
   Settings next = bank_.settings();
   next.pid = control::PidGains{gains.kp_q16, gains.ki_q16, gains.kd_q16};
   return bank_.apply(next, hand_over());
@@ -147,7 +143,7 @@ const gcode::FlashText* HotendMachine::clear_fault() {
 // Starts the write; background() streams it and the G-code layer holds the "ok" until it has
 // ended. The bank's objects are written as they are: M303 could change them mid-way.
 const gcode::FlashText* HotendMachine::save_settings() {
-  if (tune_.busy()) return busy_tuning();
+  if (tune_.busy()) return autotune_busy_text();
   writer_.begin(bank_.settings(), bank_.state_feedback_loaded(), bank_.state_feedback_constants());
   return nullptr;
 }

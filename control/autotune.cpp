@@ -39,10 +39,10 @@ constexpr int32_t kCoolDropQ8 = 3 * kQ8;        // a hot start waits for this mu
 constexpr int32_t kAssumedSlopeQ8PerS = 20 * kQ8;  // worst-case heating rate for the first pulse
 constexpr int32_t kSettleBandQ8 = kQ8 / 2;  // |target − reading| for the relay to start
 constexpr int32_t kAmplitudeQ8 = kQ8 * 3 / 2;   // relay half amplitude aimed at
-constexpr int32_t kHysteresisQ8 = kQ8 / 5;
+constexpr int32_t kHysteresisQ8 = kQ8 / 5;       // relay switches at target ± 0.2 °C (filtered)
 constexpr int32_t kTrendNoiseQ8 = 4;            // untrusted trend: a 4-bin slope under 1/64 °C/bin is noise (σ 0.2 °C: ±0.025)
 constexpr int32_t kPeakDropQ8 = kQ8 / 8;        // probe: past the peak once this far below it (smoothed)
-constexpr int32_t kGuardMarginQ8 = 2 * kQ8;     // untrusted model: relay's trend limit above target      // relay switches at target ± 0.2 °C (filtered)
+constexpr int32_t kGuardMarginQ8 = 2 * kQ8;     // untrusted model: relay's trend limit above target
 constexpr uint16_t kMinDutyStepQ16 = 328;       // d ≥ 0.5 %
 constexpr uint16_t kMaxDutyStepQ16 = 16384;     // d ≤ 25 %
 constexpr uint16_t kFull = 65535;
@@ -556,13 +556,14 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
 // approach a few L̂), but never more than 4 × the configured limit, so a stuck tune still ends.
 // L̂ < 2^16 ticks × 6 × ≤ 31 < 2^24; 4 × limit < 2^32 for limits < 2^30 ticks.
 void Autotune::extend_timeout() {
+  const uint32_t l_ticks = horizon_ticks_ > 0xFFFF ? 0xFFFFu : static_cast<uint32_t>(horizon_ticks_);
   const uint32_t cycles = uint32_t{cycles_} + (measure_fan_ ? fan_skip_ + fan_measure_ : 0u) + 4u;
-  const uint32_t span = tick_ + cycles * 6u * static_cast<uint32_t>(horizon_ticks_ > 0xFFFF ? 0xFFFF : horizon_ticks_);
+  const uint32_t span = tick_ + cycles * 6u * l_ticks;
   const uint32_t ceiling = timeout_ticks_ < (uint32_t{1} << 30) ? 4u * timeout_ticks_ : timeout_ticks_;
   if (span > timeout_ticks_) timeout_ticks_ = span < ceiling ? span : ceiling;
   // Likewise a relay half-cycle may last 12 L̂ before the relay counts as stuck (600 s at least:
   // seed000-4's fan half-cycle outlasted 600 s, and 8 L̂ = 975 s once its L̂ was 122 s).
-  const uint32_t half = 12u * static_cast<uint32_t>(horizon_ticks_ > 0xFFFF ? 0xFFFF : horizon_ticks_);
+  const uint32_t half = 12u * l_ticks;
   if (half > t600_) t600_ = static_cast<uint16_t>(half > 65000u ? 65000u : half);
 }
 

@@ -10,22 +10,19 @@
 #include <string>
 #include <vector>
 
-#include "control/fuzzy_surface_gen.h"
 #include "design/lti_model.h"
 #include "design/plant_sim.h"
 #include "design/seed_models.h"
 #include "design/tuning.h"
 #include "firmware/controller_bank.h"
 #include "firmware/thermal_watch.h"
+#include "host_tests/controller_rig.h"
 
 namespace seed_loop {
 
 constexpr double kPeriodS = firmware::kControlPeriodMs / 1000.0;
 
-inline fuzzy::Cell load_cell(uint16_t index) {
-  static constexpr auto kSurfaces = fuzzy::make_default_surfaces();
-  return kSurfaces.cell[index];
-}
+using controller_test::load_cell;  // the firmware's default rule surfaces
 
 struct SeedPlant {
   const char* name;

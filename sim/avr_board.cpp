@@ -33,6 +33,7 @@ AvrBoard::AvrBoard(const BoardSpec& spec, const std::string& elf_path) {
   watch_pin(spec.hotend_heater, &heater_);
   watch_pin(spec.part_fan, &fan_);
   attach_step_marker();
+  attach_isr_meter();
   remap_high_adc_ = spec.hotend_adc_channel >= 8 || spec.bed_adc_channel >= 8;
   apply_adc_remap();
 }
@@ -109,6 +110,7 @@ void AvrBoard::after_reset() {
   heater_.reset(now);
   fan_.reset(now);
   step_open_ = false;
+  isr_open_.clear();
   reset_eeprom_timing();
   uart_xon_ = false;  // RX is off until the firmware enables it again (which signals XON)
   apply_adc_remap();

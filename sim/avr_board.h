@@ -33,6 +33,16 @@ struct StepCycleStats {
   double mean_cycles() const { return count ? double(total_cycles) / double(count) : 0.0; }
 };
 
+// Cycles per run of one interrupt handler (AvrBoard::isr_cycles; avr_board_isr.cpp).
+struct IsrCycleStats {
+  std::string name;  // "tick", "uart rx", "uart udre", or "vector N"
+  uint8_t vector = 0;
+  uint64_t count = 0;
+  uint64_t max_cycles = 0;
+  uint64_t total_cycles = 0;
+  double mean_cycles() const { return count ? double(total_cycles) / double(count) : 0.0; }
+};
+
 enum class CpuState { kRunning, kStopped, kCrashed };
 
 // EEPROM writes under --eeprom-timing silicon (AvrBoard::use_silicon_eeprom_timing).
@@ -81,6 +91,9 @@ class AvrBoard {
   PinMeter& fan() { return fan_; }
 
   const StepCycleStats& step_cycles() const { return step_cycles_; }
+  // Every interrupt handler that ran (or is known by name), vector entry to RETI as simavr
+  // counts it: silicon adds 4–5 cycles of entry.
+  const std::vector<IsrCycleStats>& isr_cycles() const { return isr_cycles_; }
 
   // Models silicon's 3.4 ms EEPROM write (EEPE stays set, accesses meanwhile are ignored);
   // without it simavr completes every write at once. avr_board_eeprom.cpp.
@@ -116,6 +129,8 @@ class AvrBoard {
   void attach_adc();
   void watch_pin(boards::Pin pin, PinMeter* meter);
   void attach_step_marker();
+  void attach_isr_meter();
+  void record_isr(uint8_t vector, uint64_t cycles);
   void apply_adc_remap();
   void after_reset();
   void reset_eeprom_timing();
@@ -152,6 +167,12 @@ class AvrBoard {
   uint64_t step_start_cycle_ = 0;
   bool step_open_ = false;
   StepCycleStats step_cycles_;
+  struct OpenIsr {
+    uint8_t vector;
+    uint64_t start_cycle;
+  };
+  std::vector<OpenIsr> isr_open_;  // handlers entered and not yet left, innermost last
+  std::vector<IsrCycleStats> isr_cycles_;
   std::unique_ptr<EepromTiming> eeprom_timing_;
   EepromStats eeprom_stats_;
   std::vector<std::string> messages_;

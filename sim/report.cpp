@@ -36,6 +36,17 @@ double step_gap_ms(const RunResult& r) {
   return 1000.0 * double(r.step_cycles.max_gap_cycles) / double(r.config.board.cpu_hz);
 }
 
+// One line: max / mean cycles of each handler that ran (simavr counts no entry cycles).
+void print_isr_cycles(std::ostream& out, const RunResult& r) {
+  std::string line;
+  for (const IsrCycleStats& s : r.isr_cycles) {
+    if (s.count == 0) continue;
+    line += (line.empty() ? "" : ", ") + s.name + " " + std::to_string(s.max_cycles) + " / " +
+            format_fixed(s.mean_cycles(), 0);
+  }
+  if (!line.empty()) out << "interrupts         " << line << " cycles max / mean (+4–5 entry on silicon)\n";
+}
+
 }  // namespace
 
 std::string format_fixed(double value, int decimals) {
@@ -103,7 +114,9 @@ void print_report(std::ostream& out, const RunResult& r) {
       << format_fixed(r.report_error_max_c, 3) << " °C\n"
       << "control step       " << r.step_cycles.count << " steps, max " << r.step_cycles.max_cycles
       << " cycles, mean " << format_fixed(r.step_cycles.mean_cycles(), 0) << ", largest gap "
-      << format_fixed(step_gap_ms(r), 1) << " ms\n"
+      << format_fixed(step_gap_ms(r), 1) << " ms\n";
+  print_isr_cycles(out, r);
+  out
       << "simulated          " << format_fixed(r.end_s, 1) << " s in " << format_fixed(r.wall_s, 2)
       << " s wall (" << format_fixed(r.sim_speed(), 0) << "× real time)\n";
   if (r.config.silicon_eeprom)

@@ -329,6 +329,7 @@ void Runner::evaluate_fault_outcome() {
 void record_board_figures(const AvrBoard& board, RunResult& r) {
   r.end_s = board.time_s();
   r.step_cycles = board.step_cycles();
+  r.isr_cycles = board.isr_cycles();
   r.eeprom = board.eeprom_stats();
   r.image = board.image_size();
   r.stack_max_bytes = board.stack_max_bytes();

@@ -95,6 +95,7 @@ struct RunResult {
   int report_power_bad = 0;         // of those, with @: missing or outside 0..255
   double report_error_max_c = 0.0;  // see sim_run.cpp: kReportLatencyS
   StepCycleStats step_cycles;
+  std::vector<IsrCycleStats> isr_cycles;
   EepromStats eeprom;
   ImageSize image;
   uint32_t stack_max_bytes = 0;   // deepest stack of the run (sim/avr_board.h)

@@ -42,6 +42,19 @@ constexpr int32_t kAmplitudeQ8 = kQ8 * 3 / 2;   // relay half amplitude aimed at
 constexpr int32_t kHysteresisQ8 = kQ8 / 5;       // relay switches at target ± 0.2 °C (filtered)
 constexpr int32_t kTrendNoiseQ8 = 4;            // untrusted trend: a 4-bin slope under 1/64 °C/bin is noise (σ 0.2 °C: ±0.025)
 constexpr int32_t kPeakDropQ8 = kQ8 / 8;        // probe: past the peak once this far below it (smoothed)
+// On a noisy sensor these thresholds grow with the reading noise σ measured before the probe's
+// response (noise_floor; factors × 1/16, chosen on the host table at σ 0.2–0.5 °C over 8 noise
+// realisations): detection 3 σ (a bin mean's σ is σ/√8: 8.5 of those, so a slow creep plus noise
+// does not pass for a response: seed000-4 at σ 0.3 took its first pulse's creep for one, L̂ 68 s
+// against 250 s, +24 °C), the peak's drop 0.875 σ (4 × the 1-2-1 smoothed bins' 0.22 σ), the
+// relay's hysteresis 0.75 σ (1.5 × the 4-reading mean's σ/2), the trend's dead band 3σ/16 (1.5 ×
+// the 4-bin slope's σ/8: its noise held seed000's approach short of the target), the decay that
+// measures the loss 4 σ (the highest bin is itself lifted by the noise).
+constexpr uint8_t kDetectSigmaQ4 = 48;
+constexpr uint8_t kPeakDropSigmaQ4 = 14;
+constexpr uint8_t kHysteresisSigmaQ4 = 12;
+constexpr uint8_t kTrendSigmaQ4 = 3;
+constexpr uint8_t kLossDropSigmaQ4 = 64;
 constexpr int32_t kGuardMarginQ8 = 2 * kQ8;     // untrusted model: relay's trend limit above target
 constexpr uint16_t kMinDutyStepQ16 = 328;       // d ≥ 0.5 %
 constexpr uint16_t kMaxDutyStepQ16 = 16384;     // d ≤ 25 %
@@ -204,6 +217,9 @@ AutotuneOutput Autotune::step(int32_t y) {
     start_q8_ = y;
     for (int32_t& v : yf_ring_) v = y;
   }
+  if (phase_ == Phase::kBaseline || phase_ == Phase::kCool || (phase_ == Phase::kProbe && !detected_)) {
+    measure_noise(y);
+  }
   // Filter for the relay: mean of the last 4 readings (σ halves; 1.5 periods of delay).
   yf_ring_[yf_head_] = y;
   yf_head_ = static_cast<uint8_t>((yf_head_ + 1) & 3);
@@ -255,7 +271,10 @@ AutotuneOutput Autotune::step(int32_t y) {
       // The probe starts on a bin boundary: its timing (dead time, peak) counts in whole bins.
       // Its baseline is this bin (a hot hotend's decay runs on from here).
       probe_pending_ = false;
-      base_rise_q8_ = y_bin_q8_ - ambient_q8_;
+      // A cold hotend's baseline over the last 4 bins (σ halved on a noisy sensor); a hot one
+      // decays by up to ~1 °C a bin: its last bin.
+      base_rise_q8_ = (hot_start_ || retries_ != 0 ? y_bin_q8_ : div2n<2>(y_bin_q8_ + y_hist_q8_[0] + y_hist_q8_[1] + y_hist_q8_[2] + 2)) -
+                      ambient_q8_;
       start_probe();
       stage_ = 0;
     }
@@ -385,7 +404,9 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     const int32_t drop = y_peak_q8_ - y_bin_q8_;
     const int32_t mid_rise = div2n<1>(y_peak_q8_ + y_bin_q8_) - ambient_q8_;
     uint32_t inv_t = 0;
-    if (drop > kQ8 && mid_rise > kQ8) {  // a drop under 1 °C is noise: loss unknown (learnt later)
+    // A drop under 1 °C (or 4 σ of a noisy reading: the highest bin is itself lifted by the noise)
+    // is noise: loss unknown (learnt during the heat-up).
+    if (drop > noise_floor(kQ8, kLossDropSigmaQ4) && mid_rise > kQ8) {
       const uint32_t num = static_cast<uint32_t>(drop > 32767 ? 32767 : drop) << 16;
       const uint32_t den = static_cast<uint32_t>(mid_rise) * static_cast<uint32_t>(k - peak_bin_);
       inv_t = (num + den / 2) / den;
@@ -420,7 +441,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
   dev_prev2_q8_ = dev_prev_q8_;
   dev_prev_q8_ = dev_q8_;
   dev_q8_ = y_bin_q8_ - ambient_q8_ - base_rise_q8_;
-  if (!detected_ && dev_q8_ >= kDetectQ8) {
+  if (!detected_ && dev_q8_ >= noise_floor(kDetectQ8, kDetectSigmaQ4)) {
     detected_ = true;
     det_bin_ = k;
   }
@@ -484,7 +505,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
       dev_peak_q8_ = dev_q8_;
       peak_bin_ = k;
       y_peak_q8_ = y_bin_q8_;
-    } else if ((k - peak_bin_ >= 2 && dev_s < smooth_peak_q8 - kPeakDropQ8) || since_off > t90_) {
+    } else if ((k - peak_bin_ >= 2 && dev_s < smooth_peak_q8 - noise_floor(kPeakDropQ8, kPeakDropSigmaQ4)) || since_off > t90_) {
       // (after 90 s: a plateau, a near-integrating or very slow hotend: take the highest, and
       // do not trust the model it gives)
       if (since_off > t90_) untrusted_ = true;
@@ -576,12 +597,40 @@ void Autotune::set_approach_gain() {
 }
 
 // Untrusted model: the reading a bin ahead by its 4-bin trend over guard_bins_ (rising only).
-// The slope less kTrendNoiseQ8: σ = 0.2 °C readings give the 4-bin slope σ ≈ 6 (Q8 per bin),
-// × 132 bins ≈ ±3 °C of trend, which held seed000-5's approach short of the target until the
-// time limit. |s4| < 2^15 per bin, × ≤ 132.
+// The slope less a dead band, kTrendNoiseQ8 or 3σ/16 of the measured reading noise: σ = 0.2 °C
+// readings give the 4-bin slope σ ≈ 6 (Q8 per bin), × 132 bins ≈ ±3 °C of trend, which held
+// seed000-5's approach short of the target until the time limit. |s4| < 2^15 per bin, × ≤ 132.
 int32_t Autotune::trend_q8() const {
-  const int32_t s4 = div2n<2>(y_bin_q8_ - y_hist_q8_[3]) - kTrendNoiseQ8;
+  const int32_t s4 = div2n<2>(y_bin_q8_ - y_hist_q8_[3]) - noise_floor(kTrendNoiseQ8, kTrendSigmaQ4);
   return s4 > 0 ? y_bin_q8_ + s4 * guard_bins_ : y_bin_q8_;
+}
+
+// The reading noise from the mean |second difference| of successive readings (σ·√6·√(2/π) =
+// 1.954 σ for Gaussian noise; a drift or a smooth heat-up hardly moves it at 128 ms): σ =
+// Σ / (1.954 n) ≈ Σ · 131 / 2^(10 + log2 n), at n = 16, 32 and 64 readings, then the sum is
+// halved so the estimate keeps following over the last 32–64. Each term is capped at 2 °C (the
+// kink where a dead-time hotend's response starts is one such term), which reads σ 0.5 °C 9 %
+// low (the factors below were chosen with it): Σ ≤ 64 · 512 < 2^16.
+// The first two readings after start() have no two predecessors yet: skipped.
+__attribute__((noinline)) void Autotune::measure_noise(int32_t y) {
+  if (tick_ < 3) return;
+  const int32_t d2 = y - 2 * yf_ring_[(yf_head_ + 3) & 3] + yf_ring_[(yf_head_ + 2) & 3];
+  noise_sum_ = static_cast<uint16_t>(noise_sum_ + (abs32(d2) > 2 * kQ8 ? 2 * kQ8 : abs32(d2)));
+  ++noise_n_;
+  const uint8_t shift = noise_n_ == 16 ? 14 : (noise_n_ == 32 ? 15 : (noise_n_ == 64 ? 16 : 0));
+  if (shift == 0) return;
+  noise_q8_ = static_cast<uint16_t>((uint32_t{noise_sum_} * 131u * 4u) >> shift);  // < 2^24
+  if (noise_n_ == 64) {
+    noise_sum_ >>= 1;
+    noise_n_ = 32;
+  }
+}
+
+// A threshold that is `fixed_q8` on a quiet sensor and sigma_q4/16 × the reading noise on a
+// noisy one (σ ≤ 262 with the 2 °C cap, × < 2^8: < 2^17).
+__attribute__((noinline)) int32_t Autotune::noise_floor(int32_t fixed_q8, uint8_t sigma_q4) const {
+  const int32_t scaled = static_cast<int32_t>((uint32_t{noise_q8_} * sigma_q4) >> 4);
+  return scaled > fixed_q8 ? scaled : fixed_q8;
 }
 
 // One 32-bit division: loss ≤ 2^14 (°C/bin × 256, clamped), × 2^16 < 2^31.
@@ -794,9 +843,16 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
     fail(AutotuneFailure::kNoOscillation);
     return false;
   }
+  const int32_t hysteresis = noise_floor(kHysteresisQ8, kHysteresisSigmaQ4);
+  // With a trusted model no relay half is shorter than half the probe's response time L̂: the
+  // last switch cannot have shown in the reading sooner, so an earlier crossing is noise (at
+  // σ 0.3–0.5 °C seed002's and fopdt-120-25's relays chattered in 3–9 s cycles, whose figures
+  // drove d up: +10 to +22 °C). An untrusted L̂ (seed000: 250 s) is too uncertain to wait for.
+  const int32_t hl = untrusted_ ? 0 : horizon_ticks_ >> 1;
+  const int32_t min_half = hl > kTicksPerBin ? hl : kTicksPerBin;
   if (relay_hi_) {
     if (yf < cyc_min_q8_) cyc_min_q8_ = yf;
-    if (yf > target_q8_ + kHysteresisQ8 && half_ticks_ >= kTicksPerBin) {
+    if (yf > target_q8_ + hysteresis && half_ticks_ >= min_half) {
       sw_hi_q8_ = yf;
       t_hi_ = half_ticks_;
       if (half_ticks_ > longest_half_) longest_half_ = half_ticks_;
@@ -806,7 +862,7 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
     }
   } else {
     if (yf > cyc_max_q8_) cyc_max_q8_ = yf;
-    if (yf < target_q8_ - kHysteresisQ8 && half_ticks_ >= kTicksPerBin) {
+    if (yf < target_q8_ - hysteresis && half_ticks_ >= min_half) {
       sw_lo_q8_ = yf;
       const uint16_t t_lo = half_ticks_;
       if (half_ticks_ > longest_half_) longest_half_ = half_ticks_;

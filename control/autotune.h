@@ -6,7 +6,10 @@
 //
 // Phases:
 //   cool      heater off while too hot (or until a hot hotend visibly decays: its baseline)
-//   baseline  heater off, 3 s: start temperature, its drift (decay rate when hot), ambient
+//   baseline  heater off, 3 s: start temperature, its drift (decay rate when hot), ambient, and
+//             the reading noise (measured on until the probe's response shows), which widens the
+//             probe's detection and peak thresholds, the relay's hysteresis and the trend guard's
+//             dead band
 //   probe     full power, at most as long as a 20 °C/s hotend could take without reaching the
 //             target, then either (lag-type hotend: response seen and steepening) heat on until
 //             the slope is steady — S and the tangent's dead time — or heater off until the
@@ -15,7 +18,8 @@
 //   approach  Smith predictor (FOPDT model S, L̂, 1/T, anchored to the reading) with a P law
 //             around the model's steady duty; 1/T learnt on line (slope decline at full power,
 //             model-vs-reading slope when the duty is steady); then the fan part starts here too
-//   relay     biased relay (levels bias ± d, hysteresis ±0.2 °C on a 4-reading mean) around the
+//   relay     biased relay (levels bias ± d, hysteresis ±0.2 °C on a 4-reading mean, wider on a
+//             noisy sensor; with a trusted model no half shorter than L̂/2) around the
 //             target; bias = last cycle's mean duty, d for ±1.5 °C, a drifting relay re-biased
 //             from its drift; then (approach again with the part fan at 100 %) the same with fan
 //   compute   K from mean temperature / mean duty; T and L from the relay's asymmetric-FOPDT
@@ -127,6 +131,7 @@ class Autotune {
   int32_t horizon_ticks() const { return horizon_ticks_; }  // L̂
   uint16_t inv_t_q16() const { return inv_t_q16_; }         // 1/T per bin, Q16
   uint8_t overruns() const { return overruns_; }  // bin logic not finished within its bin (0)
+  uint16_t noise_q8() const { return noise_q8_; }  // reading noise σ measured so far (°C × 256)
 
  private:
   struct StoredCycle {
@@ -152,6 +157,8 @@ class Autotune {
   void set_approach_gain();
   void extend_timeout();
   int32_t trend_q8() const;
+  void measure_noise(int32_t y);
+  int32_t noise_floor(int32_t fixed_q8, uint8_t sigma_q4) const;
   void set_levels();
   bool relay_tick(int32_t yf, int32_t y);  // true when a cycle ended
   void end_cycle(uint16_t t_lo);
@@ -242,6 +249,13 @@ class Autotune {
   bool peaked_ = false;
   int32_t y_peak_q8_ = 0;
   uint8_t retries_ = 0;
+  // Reading noise, measured while nothing but noise moves the reading (baseline, cooling, the
+  // probe until its response shows): Σ|second difference| over noise_n_ readings, and the σ
+  // it gives (°C × 256). The probe's thresholds, the relay's hysteresis and the trend guard's
+  // dead band scale with it (noise_floor()).
+  uint16_t noise_sum_ = 0;
+  uint8_t noise_n_ = 0;
+  uint16_t noise_q8_ = 0;
 
   // Model for the approach.
   int32_t horizon_ticks_ = 0;   // L̂

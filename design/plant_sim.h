@@ -27,6 +27,7 @@ class PlantSim {
   void set_disturbance(double duty) { disturbance_ = duty; }  // added to the plant input
   void set_ambient(double c) { ambient_c_ = c; }
   void set_noise(double sigma_c) { noise_c_ = sigma_c; }
+  void set_noise_seed(unsigned long long seed) { rng_ = seed; }  // another noise realisation
   // Scales the plant's input gain relative to the model (model-error tests).
   void set_gain_error(double factor) { gain_ = factor; }
 

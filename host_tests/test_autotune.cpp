@@ -107,11 +107,13 @@ double full_power_heatup_s(const Plant& p, double start_duty) {
 }
 
 TuneRun run(const Plant& p, uint8_t cycles = 3, bool fan = true, double noise = 0.1, bool trace = false,
-        double heater_scale = 1.0, double start_c = -1, bool heater_stuck_on = false, uint16_t timeout_s = 3600) {
+        double heater_scale = 1.0, double start_c = -1, bool heater_stuck_on = false, uint16_t timeout_s = 3600,
+        unsigned long long noise_seed = 12345) {
   TuneRun r;
   if (start_c < 0) start_c = p.start_c;
   design::PlantSim sim(p.model);
   sim.set_noise(noise);
+  sim.set_noise_seed(noise_seed);
   sim.set_gain_error(heater_scale);
   double start_duty = 0;
   if (start_c > 25.5) {
@@ -169,8 +171,10 @@ TEST(Autotune, Table) {
   const uint8_t cycles = static_cast<uint8_t>(cycles_env != nullptr ? std::atoi(cycles_env) : 3);
   const char* noise_env = std::getenv("AUTOTUNE_NOISE");  // reading noise σ °C (0.1)
   const double noise = noise_env != nullptr ? std::atof(noise_env) : 0.1;
+  const char* seed_env = std::getenv("AUTOTUNE_SEED");  // another noise realisation (12345)
+  const unsigned long long seed = seed_env != nullptr ? std::strtoull(seed_env, nullptr, 10) : 12345;
   for (const Plant& p : plants()) {
-    TuneRun r = run(p, cycles, true, noise, trace != nullptr && p.name == trace, 1.0, -1, false, 1800);  // the firmware's limit
+    TuneRun r = run(p, cycles, true, noise, trace != nullptr && p.name == trace, 1.0, -1, false, 1800, seed);  // the firmware's limit
     const double budget = p.budget_s > 0 ? p.budget_s : r.heatup_s + 180;
     std::printf("%-16s %6.1f %6.1f %6.2f %6d | %7.1f %7.1f | %6.1f %6.1f | %6.2f %6.2f | %5.1f %5.1f | %5.2f | %5.0f %5.0f %5.0f max@%4.0f %s%s\n", p.name.c_str(),
                 r.duration_s, budget, r.max_c - p.target_c, r.cycles, q8(r.result.model.rise_q8), p.k,
@@ -255,6 +259,45 @@ TEST_F(AutotunePlants, DurationTargets) {
     const double budget = p.budget_s > 0 ? p.budget_s : r.heatup_s + 180;
     if (in(met, p.name)) {
       EXPECT_LE(r.duration_s, budget) << p.name;
+    }
+  }
+}
+
+// A noisy sensor (Gaussian reading noise σ, as AUTOTUNE_NOISE): the probe's detection and peak,
+// the relay's hysteresis and the trend guard scale with the noise the engine measures. Before,
+// at σ 0.3 °C seed002 and fopdt-120-25 overshot by 15–17 °C (relay chatter) and seed000-4 ended
+// at S + 24.6 °C (a creep taken for the response), at σ 0.5 both seed000 tunes at S + 24 °C.
+TEST(AutotuneNoise, MeasuresTheReadingNoiseBeforeTheResponse) {
+  // A hotend that does not respond (flat reading): baseline and probe both measure.
+  for (const double sigma : {0.0, 0.1, 0.3, 0.5}) {
+    design::PlantSim sim(design::fopdt(1e-6, 100, 1));  // no response to the heater
+    sim.set_noise(sigma);
+    Autotune at;
+    at.configure(128);
+    ASSERT_TRUE(at.start(210 * 256, 3, false));
+    for (int i = 0; i < 30; ++i) at.step(static_cast<int32_t>(std::lround(sim.measured_c() * 256)));
+    const double early = at.noise_q8() / 256.0;  // 16 readings, at the baseline's end
+    for (int i = 0; i < 300; ++i) at.step(static_cast<int32_t>(std::lround(sim.measured_c() * 256)));
+    const double later = at.noise_q8() / 256.0;
+    std::printf("sigma %.1f: measured %.3f after 30 readings, %.3f after 330\n", sigma, early, later);
+    EXPECT_NEAR(early, sigma, 0.3 * sigma + 0.01);  // 16 second differences
+    EXPECT_NEAR(later, sigma, 0.15 * sigma + 0.01);  // σ 0.5: 9 % low by the 2 °C cap
+  }
+}
+
+TEST(AutotuneNoise, EveryPlantStaysWithinTargetPlus5AtSigma03And05) {
+  // σ 0.3 °C over four noise realisations, 0.5 °C over one (the others' misses at 0.5 are in
+  // docs/autotune.md). The seed000 tunes must also finish at 0.3 and 0.5 on the default one.
+  struct Case { double sigma; unsigned long long seed; };
+  for (const Case c : {Case{0.3, 12345}, Case{0.3, 2}, Case{0.3, 3}, Case{0.3, 4}, Case{0.5, 12345}}) {
+    for (const Plant& p : plants()) {
+      const TuneRun r = run(p, 3, true, c.sigma, false, 1.0, -1, false, 1800, c.seed);
+      EXPECT_LE(r.max_c, p.target_c + 5.0) << p.name << " sigma " << c.sigma << " seed " << c.seed;
+      EXPECT_EQ(r.overruns, 0) << p.name;
+      if (c.seed == 12345 && p.name.compare(0, 7, "seed000") == 0) {
+        EXPECT_EQ(r.state, AutotuneState::kFinished)
+            << p.name << " sigma " << c.sigma << " failure " << static_cast<int>(r.failure);
+      }
     }
   }
 }

@@ -69,6 +69,11 @@ class Feedforward {
 // x in "q16" (°C × 65536), taps and reference temp_q8. α is mantissa_q16 / 2^16, or / 2^24 when
 // α < 1/256, so that C = 600 s keeps 12 significant bits. The x update and the reference
 // update alternate (one multiply-add pair per period: ~150 AVR cycles).
+// Lead rule (lag-type fits, C/8 ≤ D < 64 s, heating): a FOPDT cannot respond before its dead
+// time, so a reading that runs ahead of the reference shows lags the two-point fit folded into
+// D, which store more heat than the fit predicts (seed003: 9–10 °C of overshoot). Full power
+// then ends ¾ × (lead − 1 °C) earlier, and x approaches the target on the steady duty with a
+// 2·D time constant instead of landing on it (docs/controllers.md).
 class ModelReference {
  public:
   static constexpr uint8_t kTaps = 16;  // a power of two (ring index by mask); 64 B of RAM

@@ -69,6 +69,11 @@ class Feedforward {
 // x in "q16" (°C × 65536), taps and reference temp_q8. α is mantissa_q16 / 2^16, or / 2^24 when
 // α < 1/256, so that C = 600 s keeps 12 significant bits. The x update and the reference
 // update alternate (one multiply-add pair per period: ~150 AVR cycles).
+// Lead rule (lag-type fits, C/8 ≤ D < 64 s, heating): a FOPDT cannot respond before its dead
+// time, so a reading that runs ahead of the reference shows lags the two-point fit folded into
+// D, which store more heat than the fit predicts (seed003: 9–10 °C of overshoot). Full power
+// then ends ¾ × (lead − 1 °C) earlier, and x approaches the target on the steady duty with a
+// 2·D time constant instead of landing on it (docs/controllers.md).
 class ModelReference {
  public:
   static constexpr uint8_t kTaps = 16;  // a power of two (ring index by mask); 64 B of RAM
@@ -85,8 +90,10 @@ class ModelReference {
   // x_q8: the measurement for a heat-up from here, the target for a bumpless take-over (the
   // model then holds the steady duty instead of starting a full-power heat-up).
   void start(int32_t measured_q8, int32_t x_q8);
-  // One control period: steady_q16 is Feedforward::duty_q16 for the target and fan.
-  Output step(int32_t target_q8, uint16_t steady_q16);
+  // One control period: steady_q16 is Feedforward::duty_q16 for the target and fan; measured_q8
+  // the hotend's reading (kNoReading: the model alone, no lead rule).
+  static constexpr int32_t kNoReading = -0x7FFFFFFFL - 1;
+  Output step(int32_t target_q8, uint16_t steady_q16, int32_t measured_q8 = kNoReading);
   // True once the model rests at the target, its delayed output included: the heat-up (or
   // cool-down) the model plans is over and the steady duty holds it there.
   bool holds(int32_t target_q8) const { return x_q16_ == target_q8 * 256 && reference_q8_ == target_q8; }
@@ -97,9 +104,11 @@ class ModelReference {
     bool shift8;  // α = mantissa_q16 / 2^24 instead of / 2^16
   };
   static Rate rate(int32_t time_constant_q8, uint16_t period_ms);
-  int32_t scaled(int32_t difference_q16) const;  // α·difference
+  static int32_t scaled(int32_t difference_q16, const Rate& r);  // α·difference
+  int32_t scaled(int32_t difference_q16) const { return scaled(difference_q16, plant_); }
 
   Rate plant_{0, false};
+  Rate coast_{0, false};              // the lead rule's approach (configure)
   int32_t full_q16_ = 0;              // 25 °C + A: where 100 % duty drives x
   // duty_q16 per q16 of x's one-update step: 1/(α·A). The update in which x reaches the target
   // gets the duty that lands it there, not full power (or off) for the whole update: on a fast
@@ -117,6 +126,11 @@ class ModelReference {
   uint8_t newest_ = 0;
   bool odd_ = false;
   bool landing_ = false;              // duty_q16_ is the update's landing duty, not full/off
+  // Lead rule (issue 7): the most the reading has run ahead of the model's output during this
+  // heat-up, less kLeadSlackQ8. A FOPDT cannot respond before its dead time; a plant that does
+  // stores heat in lags the two-point fit folded into D, and the full-power phase ends
+  // ¾ × lead earlier (docs/controllers.md). temp_q8, ≥ 0.
+  int32_t lead_q8_ = 0;
 };
 
 }  // namespace control

@@ -208,7 +208,7 @@ __attribute__((noinline)) uint16_t ControllerBank::step_pid_family(const control
 __attribute__((noinline)) uint16_t ControllerBank::step_model_following(const control::StepInput& in) {
   if (!reference_started_) reference().start(in.measured_q8, reference_holds_ ? in.target_q8 : in.measured_q8);
   reference_started_ = true;
-  const control::ModelReference::Output r = reference().step(in.target_q8, ff_q16_);
+  const control::ModelReference::Output r = reference().step(in.target_q8, ff_q16_, in.measured_q8);
   const bool update = !ff_applied_ || r.duty_q16 != model_ff_q16_;
   ff_applied_ = true;
   model_ff_q16_ = r.duty_q16;
@@ -239,7 +239,7 @@ __attribute__((noinline)) uint16_t ControllerBank::step_fuzzy(const control::Ste
   }
   if (!reference().holds(in.target_q8)) {
     const uint16_t base_q16 = base_q16_;  // F0: the model's steady duty (prepare_feedforward)
-    const control::ModelReference::Output r = reference().step(in.target_q8, ff_q16_ + base_q16);
+    const control::ModelReference::Output r = reference().step(in.target_q8, ff_q16_ + base_q16, in.measured_q8);
     // The fuzzy-PID waits, ready to start from the model's steady duty.
     fuzzy().reset();
     fuzzy().set_feedforward(ff_q16_);

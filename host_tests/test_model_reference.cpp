@@ -168,3 +168,37 @@ TEST(ModelReference, TheLastCoolingUpdateLandsOnTheTarget) {
     EXPECT_GT(low, target - 0.3) << "target " << target;
   }
 }
+
+namespace {
+
+// The lead rule (issue 7): a reading that runs ahead of the model's output during the heat-up
+// (a lag-type plant whose fit folded lags into D) ends full power earlier, by ¾ of the lead;
+// a reading that follows the model (an exact FOPDT) changes nothing, and a fit with D < C/8
+// (hotend40w) or D ≥ 64 s (seed000) keeps the plain time-optimal heat-up.
+int full_power_updates(const HotendModel& m, double lead_c) {
+  ModelReference r;
+  r.configure(m, kPeriodMs);
+  r.start(to_q8(25), to_q8(25));
+  int full = 0;
+  for (int k = 0; k < 4000; ++k) {
+    // The reading: the start temperature plus `lead_c` — ahead of the model's output, which
+    // rests at 25 °C for the first D.
+    const ModelReference::Output o = r.step(to_q8(210), 27000, to_q8(25 + lead_c));
+    if (o.duty_q16 == 65535) ++full;
+  }
+  return full;
+}
+
+TEST(ModelReference, AReadingAheadOfTheModelEndsFullPowerEarlyOnLagTypeFits) {
+  const HotendModel seed003_fit{to_q8(450), to_q8(35.06), to_q8(9.85), 0};
+  const int plain = full_power_updates(seed003_fit, 0);
+  EXPECT_NEAR(plain * kH, 35.06 * std::log(450.0 / 265.0), 0.3);  // time-optimal: x reaches 210 °C
+  EXPECT_EQ(full_power_updates(seed003_fit, 0.9), plain);        // within the 1 °C slack
+  // 31 °C ahead: ¾ × 30 °C above the slack ends full power where x is 22.5 °C short of 210 °C.
+  EXPECT_NEAR(full_power_updates(seed003_fit, 31) * kH, 35.06 * std::log(450.0 / 287.5), 0.3);
+  for (const HotendModel& m : {HotendModel{to_q8(588.2), to_q8(245.6), to_q8(4.6), 0},
+                               HotendModel{to_q8(450), to_q8(582.4), to_q8(163.4), 0}})
+    EXPECT_EQ(full_power_updates(m, 31), full_power_updates(m, 0));
+}
+
+}  // namespace

@@ -61,15 +61,17 @@ constexpr uint16_t kMaxDutyStepQ16 = 16384;     // d ≤ 25 %
 constexpr uint16_t kFull = 65535;
 constexpr uint8_t kCycleSteps = 13;  // compute steps per stored relay cycle
 
-int32_t abs32(int32_t x) { return x < 0 ? -x : x; }
+// The small helpers below are noinline: with LTO every use was inlined (32-bit shifts and
+// compares), 660 bytes of flash in all (div2n alone 496) for a call's few cycles.
+__attribute__((noinline)) int32_t abs32(int32_t x) { return x < 0 ? -x : x; }
 
 // x / 2^n truncated toward zero, as `/` does: avr-gcc -Os compiles a signed int32 divided by a
 // power-of-two constant into a library division (≈ 650 cycles); this is a few shifts.
-template <uint8_t n> int32_t div2n(int32_t x) { return x < 0 ? -(-x >> n) : x >> n; }
+template <uint8_t n> __attribute__((noinline)) int32_t div2n(int32_t x) { return x < 0 ? -(-x >> n) : x >> n; }
 
-uint16_t clamp_duty(int32_t x) { return fixed::sat_u16(x); }
+__attribute__((noinline)) uint16_t clamp_duty(int32_t x) { return fixed::sat_u16(x); }
 
-uint16_t clamp_step(uint32_t d) {
+__attribute__((noinline)) uint16_t clamp_step(uint32_t d) {
   return static_cast<uint16_t>(d > kMaxDutyStepQ16 ? kMaxDutyStepQ16 : (d < kMinDutyStepQ16 ? kMinDutyStepQ16 : d));
 }
 
@@ -198,7 +200,7 @@ uint8_t Autotune::ring_index(uint8_t bins) const {
   return static_cast<uint8_t>((ring_head_ + kRingBins - 1 - (bins % kRingBins)) % kRingBins);
 }
 
-int32_t Autotune::model_ago(uint8_t bins) const { return int32_t{ring_[ring_index(bins)]} * 16 + offset_q8_; }
+__attribute__((noinline)) int32_t Autotune::model_ago(uint8_t bins) const { return int32_t{ring_[ring_index(bins)]} * 16 + offset_q8_; }
 
 uint8_t Autotune::duty_ago(uint8_t bins) const { return duty_ring_[ring_index(bins)]; }
 

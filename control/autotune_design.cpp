@@ -4,7 +4,8 @@
 
 namespace control {
 
-bool design_from_tune(const AutotuneResult& tune, uint16_t period_ms, TunedDesign* out) {
+// noinline: LTO inlined it into more than one caller (124 B of AVR flash as a call).
+__attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint16_t period_ms, TunedDesign* out) {
   out->model = tune.model;
   if (!hotend_model_valid(tune.model)) return false;
   // hotend_model_valid: 10 ≤ A ≤ 2000 °C, 1 ≤ C ≤ 3600 s (Q8) — the bounds below rely on it.

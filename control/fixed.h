@@ -18,7 +18,9 @@ constexpr int32_t add_sat(int32_t a, int32_t b) {
 }
 
 // Saturates an int32 to the uint16 range: the last step from an internal value to duty_q16.
-constexpr uint16_t sat_u16(int32_t x) {
+// noinline (here and mul_q16): with LTO each use was inlined, 556 bytes of AVR flash in all for
+// a call's ~10 cycles (the fuzzy and PID steps measured unchanged, simavr).
+__attribute__((noinline)) constexpr uint16_t sat_u16(int32_t x) {
   return x < 0 ? uint16_t{0} : (x > 0xFFFF ? uint16_t{0xFFFF} : static_cast<uint16_t>(x));
 }
 
@@ -51,7 +53,7 @@ constexpr int32_t mul_i16_u16(int16_t a, uint16_t b) {
 // x·a/2^16 = hi·a + lo·a/2^16, where hi·a fits int32 and lo·a fits uint32. Two 16×16 multiplies.
 // (hi is taken through an unsigned shift: with `x >> 16` GCC folds the casts away and falls
 // back to a 32×32 library multiply on AVR.)
-constexpr int32_t mul_q16(int32_t x, uint16_t a_q16) {
+__attribute__((noinline)) constexpr int32_t mul_q16(int32_t x, uint16_t a_q16) {
   return mul_i16_u16(static_cast<int16_t>(static_cast<uint32_t>(x) >> 16), a_q16) +
          static_cast<int32_t>(mul_u16(static_cast<uint16_t>(x), a_q16) >> 16);
 }

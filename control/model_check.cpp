@@ -51,7 +51,8 @@ void ModelCheck::configure(const HotendModel& model, bool tuned, int32_t thresho
   reset();
 }
 
-void ModelCheck::reset() {
+// noinline: LTO inlined it into more than one caller (90 B of AVR flash as a call).
+__attribute__((noinline)) void ModelCheck::reset() {
   for (uint8_t i = 0; i < kBins; ++i) {
     min_[i] = 0;
     max_[i] = 255;
@@ -88,7 +89,8 @@ void ModelCheck::close_bin() {
   window_max_ = hi;
 }
 
-int32_t ModelCheck::bound_q16(int32_t net_q8) const {
+// noinline: LTO inlined it into more than one caller (64 B of AVR flash as a call).
+__attribute__((noinline)) int32_t ModelCheck::bound_q16(int32_t net_q8) const {
   const int32_t scaled = fixed::mul_q16(net_q8, rate_mantissa_);  // |net_q8| ≤ 2^21: ≤ 2^21
   return rate_shift_ >= 0 ? scaled << rate_shift_ : scaled >> -rate_shift_;  // shift ≤ 6: ≤ 2^27
 }

@@ -34,7 +34,7 @@ bool representable(int32_t gain_q16, fixed::Multiplier m) {
 }
 
 // Largest |x| with |x|·(m.whole + 1) ≤ bound (the precondition of fixed::mul_round).
-int32_t input_limit(uint32_t bound, fixed::Multiplier m) {
+__attribute__((noinline)) int32_t input_limit(uint32_t bound, fixed::Multiplier m) {
   return static_cast<int32_t>(bound / (m.whole + 1));
 }
 
@@ -55,7 +55,9 @@ PidCoefficients Pid::coefficients(const PidGains& gains, uint16_t period_ms) {
                          fixed::without_small_fraction(kd_multiplier(gains.kd_q16, period_ms))};
 }
 
-void Pid::set_coefficients(const PidCoefficients& c) {
+// noinline: LTO inlined it into configure() and the fuzzy step (with input_limit: 132 B of AVR
+// flash as calls, for a few cycles when the fuzzy step switches gains).
+__attribute__((noinline)) void Pid::set_coefficients(const PidCoefficients& c) {
   // A smaller whole part only widens the margin of the clamps (|x|·(whole + 1) ≤ bound).
   c_.kp = c.kp.whole > kp_ceiling_ ? fixed::Multiplier{kp_ceiling_, 0} : c.kp;
   c_.ki = c.ki.whole > ki_ceiling_ ? fixed::Multiplier{ki_ceiling_, 0} : c.ki;

@@ -13,7 +13,8 @@
 namespace control {
 namespace {
 
-using sf::mulhi16;  // round(m·x / 2^16)
+using sf::mulhi16;       // round(m·x / 2^16), inlined: the time update (the longest call)
+using sf::mulhi16_call;  // the same product as a call: every other one
 
 constexpr int32_t kSignalLimit = int32_t(1) << 27;  // ±2048 °C in Q16
 
@@ -114,10 +115,10 @@ void StateFeedback::init_bumpless(int32_t measured_q8, uint16_t duty_q16) {
 void StateFeedback::prime(int32_t measured_q8, uint16_t duty_q16, bool zero_bias) {
   const int32_t rise = to_q16(measured_q8 - k_.ambient_q8);
   for (uint8_t i = 0; i < k_.n; ++i) {
-    x_q16_[i] = scale(mulhi16(k_.ss_share[i], rise), exponent(k_.ss_share_shift));
+    x_q16_[i] = scale(mulhi16_call(k_.ss_share[i], rise), exponent(k_.ss_share_shift));
     residual_[i] = 0;
   }
-  const int32_t v = scale(mulhi16(k_.inv_gain, rise), exponent(k_.inv_gain_shift));
+  const int32_t v = scale(mulhi16_call(k_.inv_gain, rise), exponent(k_.inv_gain_shift));
   const int32_t u = duty_signal(static_cast<int16_t>(duty_q16 >> 1), k_.input_shift);
   bias_ = zero_bias ? 0 : clamp_abs(v - u, static_cast<int32_t>(pow2(16 + k_.input_shift)));
   const int16_t duty_q15 = static_cast<int16_t>(duty_q16 >> 1);
@@ -164,15 +165,15 @@ void StateFeedback::law_update(const StepInput& in) {
   const int16_t* gain = k_.obs_gain;
   const uint8_t* shift = k_.obs_shift;
   for (uint8_t i = 0; i < n; ++i)
-    x[i] = clamp_abs(x[i] + scale(mulhi16(gain[i], e), exponent(shift[i])), kSignalLimit);
-  bias_ = clamp_abs(bias_ + scale(mulhi16(gain[n], e), exponent(shift[n])),
+    x[i] = clamp_abs(x[i] + scale(mulhi16_call(gain[i], e), exponent(shift[i])), kSignalLimit);
+  bias_ = clamp_abs(bias_ + scale(mulhi16_call(gain[n], e), exponent(shift[n])),
                     static_cast<int32_t>(pow2(16 + k_.input_shift)));  // ±100 % duty
   // Law on the predicted state, in effective duty (heater minus the fan's loss), Q16:
   // M r − L_D x̂ − g_d d̂ − Σ h_j u_eff[k−j].
   const int32_t r = to_q16(in.target_q8 - k_.ambient_q8);
-  int32_t acc = mulhi16(k_.ff_gain, r) - mulhi16(k_.bias_gain, bias_);
+  int32_t acc = mulhi16_call(k_.ff_gain, r) - mulhi16_call(k_.bias_gain, bias_);
   for (uint8_t j = 0; j < n; ++j)
-    if (k_.fb_gain[j] != 0) acc -= mulhi16(k_.fb_gain[j], x[j]);
+    if (k_.fb_gain[j] != 0) acc -= mulhi16_call(k_.fb_gain[j], x[j]);
   const int8_t p = static_cast<int8_t>(k_.input_shift);
   int32_t u = scale(acc, static_cast<int8_t>(exponent(k_.ctrl_shift) + p));
   if (k_.delay > 0)
@@ -184,7 +185,7 @@ void StateFeedback::law_update(const StepInput& in) {
   int32_t fan_q16 = 0;
   if (k_.fan_gain != 0 && in.fan_duty != 0 && y > 0) {
     const int32_t rise_fan = (y >> 8) * static_cast<int32_t>(in.fan_duty);  // °C Q8 × 0..255
-    fan_q16 = scale(mulhi16(k_.fan_gain, rise_fan), static_cast<int8_t>(exponent(k_.fan_shift) + p));
+    fan_q16 = scale(mulhi16_call(k_.fan_gain, rise_fan), static_cast<int8_t>(exponent(k_.fan_shift) + p));
     fan_q16 = fan_q16 < 0 ? 0 : (fan_q16 > 65535 ? 65535 : fan_q16);
   }
   int32_t applied = u + fan_q16;

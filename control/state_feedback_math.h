@@ -89,5 +89,9 @@ __attribute__((always_inline)) inline int32_t mulhi16(int16_t m, int32_t x) {
 inline int32_t mulhi16(int16_t m, int32_t x) { return mulhi16_c(m, x); }
 #endif
 
+// The same product as a call (~20 cycles more, ~90 bytes of flash less per site): for every
+// product but the time update's, whose call is the step's longest on 5-state models.
+__attribute__((noinline)) inline int32_t mulhi16_call(int16_t m, int32_t x) { return mulhi16(m, x); }
+
 }  // namespace sf
 }  // namespace control

@@ -28,7 +28,8 @@ bool pid_family_changed(const Settings& a, const Settings& b) {
 
 }  // namespace
 
-void ControllerBank::init(const Settings& settings) {
+// noinline: LTO inlined it into more than one caller (28 B of AVR flash as a call).
+__attribute__((noinline)) void ControllerBank::init(const Settings& settings) {
   settings_ = settings;
   configure_pid_family(settings);
   feedforward_.configure(settings.model);
@@ -119,7 +120,8 @@ void ControllerBank::init_bumpless(int32_t measured_q8, uint16_t duty_q16) {
   if (!autotuning_) active()->init_bumpless(measured_q8, duty_q16);
 }
 
-control::Autotune& ControllerBank::begin_autotune() {
+// noinline: LTO inlined it into more than one caller (46 B of AVR flash as a call).
+__attribute__((noinline)) control::Autotune& ControllerBank::begin_autotune() {
   reset();
   autotuning_ = true;
   return *new (&shared_.tune) control::Autotune();

@@ -42,7 +42,8 @@ bool has_any(const gcode::Command& cmd, char first, char last) {
 
 }  // namespace
 
-bool ControllerCommands::handle(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
+// noinline: LTO inlined it into more than one caller (72 B of AVR flash as a call).
+__attribute__((noinline)) bool ControllerCommands::handle(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
   const bool ours = cmd.letter == 'M' && ((cmd.code >= 307 && cmd.code <= 312 && cmd.code != 308 && cmd.code != 309) ||
                                           cmd.code == 570);
   if (!ours) return false;
@@ -88,7 +89,8 @@ void ControllerCommands::select(const gcode::Command& cmd, gcode::Output& out, c
   write_selection(out);
 }
 
-void ControllerCommands::upload(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
+// noinline: LTO inlined it into more than one caller (172 B of AVR flash as a call).
+__attribute__((noinline)) void ControllerCommands::upload(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
   if (*cmd.params == '\0') return write_upload(out, GCODE_TEXT("echo:"));
   if (bank_.autotuning()) return out.error_line(autotune_busy_text());  // (the machine refuses it first)
   control::StateFeedbackConstants& staging = bank_.sf_staging();

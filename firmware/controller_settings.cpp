@@ -44,7 +44,8 @@ bool protection_valid(const Settings& s) {
          s.watch_period_s >= kWatchMinPeriodS && s.watch_period_s <= kWatchMaxPeriodS;
 }
 
-control::FuzzyPidConfig fuzzy_config(const Settings& s) {
+// noinline: LTO inlined it into more than one caller (92 B of AVR flash as a call).
+__attribute__((noinline)) control::FuzzyPidConfig fuzzy_config(const Settings& s) {
   control::FuzzyPidConfig c = control::fuzzy_config_around(s.pid, s.fuzzy_spread_pct);
   c.e_factor_q12 = s.fuzzy_e_factor_q12;
   c.ec_factor_q12 = s.fuzzy_ec_factor_q12;

@@ -4,7 +4,8 @@
 
 namespace firmware {
 
-const gcode::FlashText* HeaterManager::set_target_q8(int32_t target_q8) {
+// noinline: LTO inlined it into more than one caller (58 B of AVR flash as a call).
+__attribute__((noinline)) const gcode::FlashText* HeaterManager::set_target_q8(int32_t target_q8) {
   if (fault_ != Fault::kNone) return GCODE_TEXT("Heater fault latched, send M999 to clear");
   if (target_q8 == 0 && target_q8_ != 0) {
     switch_off();
@@ -34,7 +35,8 @@ uint16_t HeaterManager::hold_off() {
   return 0;
 }
 
-bool HeaterManager::trip(Fault fault) {
+// noinline: LTO inlined it into more than one caller (44 B of AVR flash as a call).
+__attribute__((noinline)) bool HeaterManager::trip(Fault fault) {
   hal::heater_pwm::force_off();  // first: the pin is low before anything else happens
   target_q8_ = 0;
   switch_off();

@@ -155,20 +155,24 @@ void ControllerCommands::fuzzy(const gcode::Command& cmd, gcode::Output& out, co
 
 void ControllerCommands::sync_staging() { bank_.sync_staging(); }
 
-// M570 T<°C> U<°C> P<s>: the protection's thresholds (RepRapFirmware's M570 and Prusa's M310
-// set heater-fault detection; the letters here are our own). All checked before any applies.
+// M570 T<°C> U<°C> P<s> S<0|1>: the protection's thresholds (RepRapFirmware's M570 and Prusa's
+// M310 set heater-fault detection; the letters here are our own). S is which of T and U the model
+// check uses: M307 and M303 set it, and M503 prints it after M307 so that replaying M503 keeps a
+// model that M303 left on the wide margin (hot start, lag-dominated) there. All checked first.
 void ControllerCommands::protection(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
   Settings next = bank_.settings();
   int32_t tuned = next.protect_tuned_c, fallback = next.protect_default_c, period = next.watch_period_s;
+  int32_t tight = next.model_tuned;
   if (!cmd.integer('T', kProtectMinC, kProtectMaxC, &tuned, out) ||
       !cmd.integer('U', kProtectMinC, kProtectMaxC, &fallback, out) ||
-      !cmd.integer('P', kWatchMinPeriodS, kWatchMaxPeriodS, &period, out)) {
+      !cmd.integer('P', kWatchMinPeriodS, kWatchMaxPeriodS, &period, out) || !cmd.integer('S', 0, 1, &tight, out)) {
     return;
   }
-  if (cmd.has('T') || cmd.has('U') || cmd.has('P')) {
+  if (cmd.has('T') || cmd.has('U') || cmd.has('P') || cmd.has('S')) {
     next.protect_tuned_c = static_cast<uint8_t>(tuned);
     next.protect_default_c = static_cast<uint8_t>(fallback);
     next.watch_period_s = static_cast<uint16_t>(period);
+    next.model_tuned = static_cast<uint8_t>(tight);
     return write_refusal(out, bank_.apply(next, now));
   }
   out.print(GCODE_TEXT("echo:"));
@@ -183,7 +187,8 @@ void ControllerCommands::write_protection(gcode::Output& out) const {
   out.write_int(s.protect_default_c);
   out.print(GCODE_TEXT(" P"));
   out.write_int(s.watch_period_s);
-  out.print(s.model_tuned ? GCODE_TEXT(" ; model: tuned (M303/M307)\n") : GCODE_TEXT(" ; model: default\n"));
+  out.print(s.model_tuned ? GCODE_TEXT(" S1 ; model check: T (measured model)\n")
+                          : GCODE_TEXT(" S0 ; model check: U (default or unsure model)\n"));
 }
 
 void ControllerCommands::report(gcode::Output& out) {
@@ -197,7 +202,7 @@ void ControllerCommands::report(gcode::Output& out) {
   out.print(GCODE_TEXT("echo:; Controller (M310 S0 PID, S1 state feedback, S2 fuzzy-PID, S3 Marlin PID; F1 model feedforward):\n"
                        "echo:  "));
   write_selection(out);
-  out.print(GCODE_TEXT("echo:; Heater protection (M570 T model check degC, U with the default model degC, P watch window s):\n"
+  out.print(GCODE_TEXT("echo:; Heater protection (M570 T model check degC, U with the default model degC, P watch window s, S1 T applies):\n"
                        "echo:  "));
   write_protection(out);
 }

@@ -171,7 +171,7 @@ TEST(ControllerCommands, M503LinesRestoreEverySettingOnAFreshFirmware) {
   const std::vector<std::string> lines = settings_lines(rig);
   ASSERT_EQ(lines.size(), 1u + 1 + 14 + 1 + 1 + 1);  // M307, M312, M311 × 13 + W1, M310, M570, M301
   EXPECT_EQ(lines[lines.size() - 3], "M310 S1 F1 ; state feedback");
-  EXPECT_EQ(lines[lines.size() - 2], "M570 T4 U20 P90 ; model: tuned (M303/M307)");
+  EXPECT_EQ(lines[lines.size() - 2], "M570 T4 U20 P90 S1 ; model check: T (measured model)");
   EXPECT_EQ(lines.back().substr(0, 5), "M301 ");
   Rig fresh;
   for (const std::string& line : lines) EXPECT_EQ(fresh.send(line + "\n").substr(0, 5) == "Error", false) << line;
@@ -227,17 +227,33 @@ TEST(ControllerCommands, M502ForgetsTheUploadAndFallsBackToTheDefaultController)
 // whether the model check runs on a tuned model (M303/M307) or the default.
 TEST(ControllerCommands, M570SetsTheProtectionAndRefusesOutOfRange) {
   Rig rig;
-  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T2 U15 P120 ; model: default\nok\n");
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T2 U15 P120 S0 ; model check: U (default or unsure model)\nok\n");
   EXPECT_EQ(rig.send("M570 T5 P60\n"), "ok\n");
-  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 ; model: default\nok\n");
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S0 ; model check: U (default or unsure model)\nok\n");
   EXPECT_EQ(rig.send("M570 T1\n"), "Error:M570 T must be an integer in 2..60\nok\n");
   EXPECT_EQ(rig.send("M570 T6 P700\n"), "Error:M570 P must be an integer in 20..600\nok\n");  // T not applied
   EXPECT_EQ(rig.send("M570 U2.5\n"), "Error:M570 U must be an integer in 2..60\nok\n");
-  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 ; model: default\nok\n");
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S0 ; model check: U (default or unsure model)\nok\n");
   EXPECT_EQ(rig.send("M307 A500\n"), "ok\n");  // a model the host vouches for: the check tightens
-  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 ; model: tuned (M303/M307)\nok\n");
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S1 ; model check: T (measured model)\nok\n");
+  EXPECT_EQ(rig.send("M570 S2\n"), "Error:M570 S must be an integer in 0..1\nok\n");
+  EXPECT_EQ(rig.send("M570 S0\n"), "ok\n");  // back to the wide check, the model kept
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S0 ; model check: U (default or unsure model)\nok\n");
+  EXPECT_EQ(rig.machine.bank.settings().model.rise_q8, 500 * 256);
   rig.send("M502\n");
-  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T2 U15 P120 ; model: default\nok\n");
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T2 U15 P120 S0 ; model check: U (default or unsure model)\nok\n");
+}
+
+// M503 prints M570 after M307: replaying it keeps a model that M303 left on the wide check
+// (hot start, lag-dominated or unsure) there, instead of M307 marking it measured.
+TEST(ControllerCommands, ReplayedM503KeepsAnUnsureModelOnTheWideCheck) {
+  Rig rig;
+  rig.send("M307 A500 C200 D6 F30\nM570 S0\n");
+  ASSERT_EQ(rig.machine.bank.settings().model_tuned, 0);
+  Rig fresh;
+  for (const std::string& line : settings_lines(rig)) fresh.send(line + "\n");
+  EXPECT_EQ(fresh.machine.bank.settings().model.rise_q8, 500 * 256);
+  EXPECT_EQ(fresh.machine.bank.settings().model_tuned, 0);
 }
 
 TEST(ControllerCommands, StoredProtectionOutOfRangeIsRefusedWhole) {

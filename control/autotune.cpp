@@ -243,6 +243,9 @@ AutotuneOutput Autotune::step(int32_t y) {
       }
       // Between the decision and the approach (begin stages) the pulse goes on as it was.
       duty_q16_ = heater_on_ ? kFull : 0;
+      // The highest single reading after the cut: the FOPDT response's sharp peak, which a bin
+      // mean rounds off by up to ~4 % of its height (seed002: rising 16 °C/s, falling 2.6).
+      if (!heater_on_ && !peaked_ && y > probe_max_q8_) probe_max_q8_ = y;
       break;
     case Phase::kRelay:
       ended = relay_tick(yf, y);
@@ -387,6 +390,7 @@ void Autotune::start_probe() {
   slope_max_bin_ = 0;
   dev_peak_q8_ = INT32_MIN;
   slope_rise_q8_ = INT32_MIN;  // the smoothed peak until the probe takes the tangent path
+  probe_max_q8_ = INT32_MIN;
   duty_q16_ = kFull;
 }
 
@@ -434,6 +438,14 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     full_bins_ = 0;
     // Cut-to-peak time (the FOPDT's dead time): the peak is at the centre of the highest bin.
     horizon_ticks_ = static_cast<int32_t>(peak_bin_) * kTicksPerBin - kTicksPerBin / 2 - static_cast<int32_t>(off_tick_);
+    // The pulse's peak height above a steady baseline (compute: C from it); 0 when the baseline
+    // was not steady (hot start: decaying; a retry: the earlier pulses' tails). A sharp peak
+    // (fast FOPDT) is the highest reading: the bins round it off by more than 2 σ, and few
+    // readings lie near its top to lift it by their noise. A flat one (slow hotend: many readings
+    // near the top, whose highest is lifted by ~2 σ) is the highest bin (σ/√8).
+    probe_max_q8_ -= ambient_q8_ + base_rise_q8_;
+    if (dev_peak_q8_ > probe_max_q8_ - 3 * static_cast<int32_t>(noise_q8_)) probe_max_q8_ = dev_peak_q8_;
+    if (hot_start_ || retries_ != 0) probe_max_q8_ = 0;
     return 20;
   }
   // The baseline the hotend would follow without the probe (decaying when hot).
@@ -1097,7 +1109,7 @@ bool Autotune::compute_chunk() {
       m.dead_time_q8 = l_sum_q8_ / count;
       return false;
     case 3:
-      c_a_hi_ = m.time_constant_q8;  // the relay's T (case 4 compares)
+      c_a_hi_ = m.time_constant_q8;  // the relay's T (case 6 compares)
       if (continuous_ && k_q8_ > slope_rise_q8_) {
         // A lag-type hotend (its response started within the first pulse and steepened
         // smoothly): the relay's FOPDT formulas misread a lag as a long time constant. T from
@@ -1106,7 +1118,28 @@ bool Autotune::compute_chunk() {
         m.time_constant_q8 = static_cast<int32_t>((num + static_cast<uint32_t>(slope_q8_) / 2) / static_cast<uint32_t>(slope_q8_));
       }
       return false;
-    case 4: {
+    case 4:
+      // A cut probe is a full-power pulse of p = on_ticks_ from a steady baseline; an FOPDT's
+      // response to it peaks (at D + p) at h = A·(1 − e^(−p/C)), so C = p / ln(A/(A − h)), with A
+      // from the relay (≈ 0.1 %): accurate where the relay's asymmetric formulas scatter by
+      // ±2.5 % at σ 0.1 °C. Here ln(A/(A − h)) as log2 (A < 2^19, A − h ≥ 1).
+      c_ln_ = 0;
+      if (!continuous_ && probe_max_q8_ > 0 && k_q8_ > probe_max_q8_) {
+        c_ln_ = fixed_math::log2_q16(static_cast<uint32_t>(k_q8_)) -
+                fixed_math::log2_q16(static_cast<uint32_t>(k_q8_ - probe_max_q8_));
+      }
+      return false;
+    case 5: {
+      // C = p·2^16 / ln (p ≤ 6 s: < 2^11 in q8); a C over 2^23 (no FOPDT hotend) counts as none.
+      c_lambda_ = 0;
+      if (c_ln_ > 0) {
+        const uint32_t c = div_q16(static_cast<uint32_t>(seconds_q8(on_ticks_)),
+                                   static_cast<uint32_t>(fixed_math::ln_from_log2_q16(c_ln_)));
+        c_lambda_ = c < (uint32_t{1} << 23) ? static_cast<int32_t>(c) : 0;
+      }
+      return false;
+    }
+    case 6: {
       // Lag-type (continuous probe): the heat-up's slope S = (K − block rise)/T and the block
       // leads the sensor by lag·S, so T = (K − rise)/S − lag; the tangent's dead time stands for
       // the lag (the FOPDT equivalent of the heat-up, as a two-point fit of it: the M307 model's
@@ -1122,6 +1155,10 @@ bool Autotune::compute_chunk() {
         if (2 * c_a_hi_ > 3 * m.time_constant_q8) {
           c_log_ = static_cast<int32_t>(div_q16(static_cast<uint32_t>(lag), static_cast<uint32_t>(m.time_constant_q8)));
         }
+      } else if (c_lambda_ > 0 && 10 * abs32(c_lambda_ - m.time_constant_q8) < m.time_constant_q8) {
+        // The probe's C where it agrees with the relay's within 10 % (an FOPDT hotend; a lag or
+        // a noisy peak would not): T < 2^17, × 10 < 2^21.
+        m.time_constant_q8 = c_lambda_;
       } else if (slope_q8_ > 0 && !hot_start_) {
         // A cut probe (hot start, or a slower response): S = K/T at full power. The relay's FOPDT
         // formulas read a sensor lag as a long T (×3 on a lag-type hotend); K/S does not. Taken
@@ -1134,7 +1171,7 @@ bool Autotune::compute_chunk() {
       }
       return false;
     }
-    case 5:
+    case 7:
       if (c_log_ > 0) {
         result_.sensor_lag_q8 = m.dead_time_q8;
         m.dead_time_q8 = two_point_dead_time(m.dead_time_q8, c_log_);
@@ -1151,7 +1188,7 @@ bool Autotune::compute_chunk() {
         }
       }
       return false;
-    case 6:
+    case 8:
       result_.ultimate.ku_q8 = ku_count_ > 0 ? static_cast<int32_t>(ku_sum_q8_ / ku_count_) : 0;
       return false;
     default:

@@ -235,7 +235,12 @@ class Autotune {
   uint16_t off_tick_ = 0;      // tick (since probe start) the pulse ended
   bool extend_ = false;        // pulse extended past the cap (response seen, still steepening)
   bool cooled_ = false;        // a hot start has shown its decay
-  int32_t cool_ref_q8_ = 0;
+  // Cool phase: the reading it started at. From the probe on (the cool phase is over): the
+  // highest reading after the pulse's cut, then (cut probe) its height above the baseline.
+  union {
+    int32_t cool_ref_q8_ = 0;
+    int32_t probe_max_q8_;
+  };
   bool detected_ = false;
   uint16_t det_bin_ = 0;
   int32_t dev_q8_ = 0, dev_prev_q8_ = 0, dev_prev2_q8_ = 0;

@@ -176,7 +176,7 @@ TEST(Autotune, Table) {
   for (const Plant& p : plants()) {
     TuneRun r = run(p, cycles, true, noise, trace != nullptr && p.name == trace, 1.0, -1, false, 1800, seed);  // the firmware's limit
     const double budget = p.budget_s > 0 ? p.budget_s : r.heatup_s + 180;
-    std::printf("%-16s %6.1f %6.1f %6.2f %6d | %7.1f %7.1f | %6.1f %6.1f | %6.2f %6.2f | %5.1f %5.1f | %5.2f | %5.0f %5.0f %5.0f max@%4.0f %s%s\n", p.name.c_str(),
+    std::printf("%-16s %6.1f %6.1f %6.2f %6d | %7.1f %7.1f | %6.2f %6.1f | %6.2f %6.2f | %5.1f %5.1f | %5.2f | %5.0f %5.0f %5.0f max@%4.0f %s%s\n", p.name.c_str(),
                 r.duration_s, budget, r.max_c - p.target_c, r.cycles, q8(r.result.model.rise_q8), p.k,
                 q8(r.result.model.time_constant_q8), p.t, q8(r.result.model.dead_time_q8), p.l,
                 q8(r.result.model.fan_loss_pct_q8), fan_pct(p.model, p.k), p.lag, r.approach_s, r.relay_s, r.fan_s, r.max_at_s,

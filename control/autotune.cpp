@@ -13,7 +13,7 @@
 //     probe → approach 3 (the model history is generated one entry per bin as it is read,
 //     not all at once), approach 6, relay 3; a relay cycle's end 3 more (cycle_stage), taking
 //     precedence; they all fit in the 7 steps before the next bin (overruns() counts misses)
-//   compute: one stage per step (a division, or a logarithm) for ≈ 60 steps
+//   compute: one stage per step (a division, or a logarithm or two) for ≈ 62 steps
 // No 64-bit arithmetic anywhere. Measured worst steps, in cycles (simavr, ATmega2560, -Os
 // -mcall-prologues, no LTO; step() called on readings recorded from the host runs of hotend40w
 // cold and hot, seed002, seed000-5, fopdt-30-1, the outputs checked equal to the host's):
@@ -989,8 +989,8 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
 }
 
 // The final arithmetic, one piece per step (at most one 32-bit division or two logarithms):
-// 0–2 K; 13 per stored cycle (T, L from the relay); 3 for K with the fan; 6 for F, the averages
-// and the result.
+// 0–2 K; 13 per stored cycle (T, L from the relay); 3 for K with the fan; 10 for F, the averages,
+// the probe's C and the result.
 bool Autotune::compute_chunk() {
   const int32_t rise_target = target_q8_ - ambient_q8_;
   const uint8_t stored = stored_count_ < kMaxStoredCycles ? stored_count_ : kMaxStoredCycles;

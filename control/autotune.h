@@ -23,7 +23,8 @@
 //             target; bias = last cycle's mean duty, d for ±1.5 °C, a drifting relay re-biased
 //             from its drift; then (approach again with the part fan at 100 %) the same with fan
 //   compute   K from mean temperature / mean duty; T and L from the relay's asymmetric-FOPDT
-//             formulas (lag-type hotends: T from the heat-up slope, L from the relay amplitude);
+//             formulas (lag-type hotends: T from the heat-up slope, L from the relay amplitude;
+//             a cold cut probe: T = p/ln(K/(K − peak)) from its pulse where it agrees within 10 %);
 //             F from the fan cycles' mean duty; one small piece per step (≈ 110 steps)
 // The slow logic runs in pieces of at most one 32-bit division each, one piece per step, so that
 // every step() stays cheap on AVR (see the cost notes at the top of autotune.cpp).

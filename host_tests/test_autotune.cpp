@@ -236,6 +236,20 @@ TEST_F(AutotunePlants, IdentifyFopdtPlantsWithin10PercentAndFanWithin20) {
   }
 }
 
+// The blind heat-up after U1 on a dead-time hotend (full power ends before the dead time shows
+// anything) lands where A·(1 − e^(−t/C)) says: 1 % of C is ~2 °C there. The cut probe's peak
+// gives C within 1 % at σ 0.1 °C (the relay's formulas alone: −5.6..+4.7 % over these runs).
+TEST(Autotune, CutProbeTimeConstantWithin1PercentOnDeadTimePlants) {
+  for (const Plant& p : plants()) {
+    if (p.name != "seed002" && p.name != "seed004" && p.name != "fopdt-120-25") continue;
+    for (unsigned long long seed : {12345ULL, 1ULL, 2ULL, 3ULL}) {
+      const TuneRun r = run(p, 3, true, 0.1, false, 1.0, -1, false, 1800, seed);
+      ASSERT_EQ(r.state, AutotuneState::kFinished) << p.name << " seed " << seed;
+      EXPECT_NEAR(q8(r.result.model.time_constant_q8), p.t, 0.01 * p.t) << p.name << " seed " << seed;
+    }
+  }
+}
+
 TEST_F(AutotunePlants, IdentifyTwoNodeGainAndFanLoss) {
   const std::vector<Plant> ps = plants();
   for (size_t i = 0; i < ps.size(); ++i) {

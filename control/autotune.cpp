@@ -440,9 +440,11 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     horizon_ticks_ = static_cast<int32_t>(peak_bin_) * kTicksPerBin - kTicksPerBin / 2 - static_cast<int32_t>(off_tick_);
     // The pulse's peak height above a steady baseline (compute: C from it); 0 when the baseline
     // was not steady (hot start: decaying; a retry: the earlier pulses' tails). A sharp peak
-    // (fast FOPDT) is the highest reading: the bins round it off by more than 2 σ, and few
-    // readings lie near its top to lift it by their noise. A flat one (slow hotend: many readings
-    // near the top, whose highest is lifted by ~2 σ) is the highest bin (σ/√8).
+    // (fast FOPDT) is the highest reading: the bins round it off by more than 3 σ, and few
+    // readings lie near its top to lift it by their noise. A flat one (the highest bin within
+    // 3 σ of it; slow hotends: many readings near the top, whose highest is lifted by ~2 σ, and
+    // the measured σ reads ~10 % low) is the highest bin (σ/√8). The max is a real reading here
+    // (the cut path has readings between the cut and the peak), so the subtraction cannot wrap.
     probe_max_q8_ -= ambient_q8_ + base_rise_q8_;
     if (dev_peak_q8_ > probe_max_q8_ - 3 * static_cast<int32_t>(noise_q8_)) probe_max_q8_ = dev_peak_q8_;
     if (hot_start_ || retries_ != 0) probe_max_q8_ = 0;
@@ -1157,7 +1159,7 @@ bool Autotune::compute_chunk() {
         }
       } else if (c_lambda_ > 0 && 10 * abs32(c_lambda_ - m.time_constant_q8) < m.time_constant_q8) {
         // The probe's C where it agrees with the relay's within 10 % (an FOPDT hotend; a lag or
-        // a noisy peak would not): T < 2^17, × 10 < 2^21.
+        // a noisy peak would not): |C − T| < 2^23, × 10 < 2^27.
         m.time_constant_q8 = c_lambda_;
       } else if (slope_q8_ > 0 && !hot_start_) {
         // A cut probe (hot start, or a slower response): S = K/T at full power. The relay's FOPDT

@@ -13,7 +13,7 @@
 //     probe → approach 3 (the model history is generated one entry per bin as it is read,
 //     not all at once), approach 6, relay 3; a relay cycle's end 3 more (cycle_stage), taking
 //     precedence; they all fit in the 7 steps before the next bin (overruns() counts misses)
-//   compute: one stage per step (a division, or a logarithm) for ≈ 60 steps
+//   compute: one stage per step (a division, or a logarithm or two) for ≈ 62 steps
 // No 64-bit arithmetic anywhere. Measured worst steps, in cycles (simavr, ATmega2560, -Os
 // -mcall-prologues, no LTO; step() called on readings recorded from the host runs of hotend40w
 // cold and hot, seed002, seed000-5, fopdt-30-1, the outputs checked equal to the host's):
@@ -245,6 +245,9 @@ AutotuneOutput Autotune::step(int32_t y) {
       }
       // Between the decision and the approach (begin stages) the pulse goes on as it was.
       duty_q16_ = heater_on_ ? kFull : 0;
+      // The highest single reading after the cut: the FOPDT response's sharp peak, which a bin
+      // mean rounds off by up to ~4 % of its height (seed002: rising 16 °C/s, falling 2.6).
+      if (!heater_on_ && !peaked_ && y > probe_max_q8_) probe_max_q8_ = y;
       break;
     case Phase::kRelay:
       ended = relay_tick(yf, y);
@@ -389,6 +392,7 @@ void Autotune::start_probe() {
   slope_max_bin_ = 0;
   dev_peak_q8_ = INT32_MIN;
   slope_rise_q8_ = INT32_MIN;  // the smoothed peak until the probe takes the tangent path
+  probe_max_q8_ = INT32_MIN;
   duty_q16_ = kFull;
 }
 
@@ -436,6 +440,16 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     full_bins_ = 0;
     // Cut-to-peak time (the FOPDT's dead time): the peak is at the centre of the highest bin.
     horizon_ticks_ = static_cast<int32_t>(peak_bin_) * kTicksPerBin - kTicksPerBin / 2 - static_cast<int32_t>(off_tick_);
+    // The pulse's peak height above a steady baseline (compute: C from it); 0 when the baseline
+    // was not steady (hot start: decaying; a retry: the earlier pulses' tails). A sharp peak
+    // (fast FOPDT) is the highest reading: the bins round it off by more than 3 σ, and few
+    // readings lie near its top to lift it by their noise. A flat one (the highest bin within
+    // 3 σ of it; slow hotends: many readings near the top, whose highest is lifted by ~2 σ, and
+    // the measured σ reads ~10 % low) is the highest bin (σ/√8). The max is a real reading here
+    // (the cut path has readings between the cut and the peak), so the subtraction cannot wrap.
+    probe_max_q8_ -= ambient_q8_ + base_rise_q8_;
+    if (dev_peak_q8_ > probe_max_q8_ - 3 * static_cast<int32_t>(noise_q8_)) probe_max_q8_ = dev_peak_q8_;
+    if (hot_start_ || retries_ != 0) probe_max_q8_ = 0;
     return 20;
   }
   // The baseline the hotend would follow without the probe (decaying when hot).
@@ -979,8 +993,8 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
 }
 
 // The final arithmetic, one piece per step (at most one 32-bit division or two logarithms):
-// 0–2 K; 13 per stored cycle (T, L from the relay); 3 for K with the fan; 6 for F, the averages
-// and the result.
+// 0–2 K; 13 per stored cycle (T, L from the relay); 3 for K with the fan; 10 for F, the averages,
+// the probe's C and the result.
 bool Autotune::compute_chunk() {
   const int32_t rise_target = target_q8_ - ambient_q8_;
   const uint8_t stored = stored_count_ < kMaxStoredCycles ? stored_count_ : kMaxStoredCycles;
@@ -1099,7 +1113,7 @@ bool Autotune::compute_chunk() {
       m.dead_time_q8 = l_sum_q8_ / count;
       return false;
     case 3:
-      c_a_hi_ = m.time_constant_q8;  // the relay's T (case 4 compares)
+      c_a_hi_ = m.time_constant_q8;  // the relay's T (case 6 compares)
       if (continuous_ && k_q8_ > slope_rise_q8_) {
         // A lag-type hotend (its response started within the first pulse and steepened
         // smoothly): the relay's FOPDT formulas misread a lag as a long time constant. T from
@@ -1108,7 +1122,28 @@ bool Autotune::compute_chunk() {
         m.time_constant_q8 = static_cast<int32_t>((num + static_cast<uint32_t>(slope_q8_) / 2) / static_cast<uint32_t>(slope_q8_));
       }
       return false;
-    case 4: {
+    case 4:
+      // A cut probe is a full-power pulse of p = on_ticks_ from a steady baseline; an FOPDT's
+      // response to it peaks (at D + p) at h = A·(1 − e^(−p/C)), so C = p / ln(A/(A − h)), with A
+      // from the relay (≈ 0.1 %): accurate where the relay's asymmetric formulas scatter by
+      // ±2.5 % at σ 0.1 °C. Here ln(A/(A − h)) as log2 (A < 2^19, A − h ≥ 1).
+      c_ln_ = 0;
+      if (!continuous_ && probe_max_q8_ > 0 && k_q8_ > probe_max_q8_) {
+        c_ln_ = fixed_math::log2_q16(static_cast<uint32_t>(k_q8_)) -
+                fixed_math::log2_q16(static_cast<uint32_t>(k_q8_ - probe_max_q8_));
+      }
+      return false;
+    case 5: {
+      // C = p·2^16 / ln (p ≤ 6 s: < 2^11 in q8); a C over 2^23 (no FOPDT hotend) counts as none.
+      c_lambda_ = 0;
+      if (c_ln_ > 0) {
+        const uint32_t c = div_q16(static_cast<uint32_t>(seconds_q8(on_ticks_)),
+                                   static_cast<uint32_t>(fixed_math::ln_from_log2_q16(c_ln_)));
+        c_lambda_ = c < (uint32_t{1} << 23) ? static_cast<int32_t>(c) : 0;
+      }
+      return false;
+    }
+    case 6: {
       // Lag-type (continuous probe): the heat-up's slope S = (K − block rise)/T and the block
       // leads the sensor by lag·S, so T = (K − rise)/S − lag; the tangent's dead time stands for
       // the lag (the FOPDT equivalent of the heat-up, as a two-point fit of it: the M307 model's
@@ -1124,6 +1159,10 @@ bool Autotune::compute_chunk() {
         if (2 * c_a_hi_ > 3 * m.time_constant_q8) {
           c_log_ = static_cast<int32_t>(div_q16(static_cast<uint32_t>(lag), static_cast<uint32_t>(m.time_constant_q8)));
         }
+      } else if (c_lambda_ > 0 && 10 * abs32(c_lambda_ - m.time_constant_q8) < m.time_constant_q8) {
+        // The probe's C where it agrees with the relay's within 10 % (an FOPDT hotend; a lag or
+        // a noisy peak would not): |C − T| < 2^23, × 10 < 2^27.
+        m.time_constant_q8 = c_lambda_;
       } else if (slope_q8_ > 0 && !hot_start_) {
         // A cut probe (hot start, or a slower response): S = K/T at full power. The relay's FOPDT
         // formulas read a sensor lag as a long T (×3 on a lag-type hotend); K/S does not. Taken
@@ -1136,7 +1175,7 @@ bool Autotune::compute_chunk() {
       }
       return false;
     }
-    case 5:
+    case 7:
       if (c_log_ > 0) {
         result_.sensor_lag_q8 = m.dead_time_q8;
         m.dead_time_q8 = two_point_dead_time(m.dead_time_q8, c_log_);
@@ -1153,7 +1192,7 @@ bool Autotune::compute_chunk() {
         }
       }
       return false;
-    case 6:
+    case 8:
       result_.ultimate.ku_q8 = ku_count_ > 0 ? static_cast<int32_t>(ku_sum_q8_ / ku_count_) : 0;
       return false;
     default:

@@ -23,7 +23,8 @@
 //             target; bias = last cycle's mean duty, d for ±1.5 °C, a drifting relay re-biased
 //             from its drift; then (approach again with the part fan at 100 %) the same with fan
 //   compute   K from mean temperature / mean duty; T and L from the relay's asymmetric-FOPDT
-//             formulas (lag-type hotends: T from the heat-up slope, L from the relay amplitude);
+//             formulas (lag-type hotends: T from the heat-up slope, L from the relay amplitude;
+//             a cold cut probe: T = p/ln(K/(K − peak)) from its pulse where it agrees within 10 %);
 //             F from the fan cycles' mean duty; one small piece per step (≈ 110 steps)
 // The slow logic runs in pieces of at most one 32-bit division each, one piece per step, so that
 // every step() stays cheap on AVR (see the cost notes at the top of autotune.cpp).
@@ -235,7 +236,12 @@ class Autotune {
   uint16_t off_tick_ = 0;      // tick (since probe start) the pulse ended
   bool extend_ = false;        // pulse extended past the cap (response seen, still steepening)
   bool cooled_ = false;        // a hot start has shown its decay
-  int32_t cool_ref_q8_ = 0;
+  // Cool phase: the reading it started at. From the probe on (the cool phase is over): the
+  // highest reading after the pulse's cut, then (cut probe) its height above the baseline.
+  union {
+    int32_t cool_ref_q8_ = 0;
+    int32_t probe_max_q8_;
+  };
   bool detected_ = false;
   uint16_t det_bin_ = 0;
   int32_t dev_q8_ = 0, dev_prev_q8_ = 0, dev_prev2_q8_ = 0;

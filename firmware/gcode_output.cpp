@@ -24,15 +24,26 @@ void Output::write_int(int32_t value) {
   write_uint(value < 0 ? 0u - static_cast<uint32_t>(value) : static_cast<uint32_t>(value));
 }
 
+namespace {
+
+// frac / 2^frac_bits in units of 10^-decimals, rounded to nearest: frac · 5^d · 2^d / 2^fb, so
+// the product frac · 5^d < 2^16 · 3125 < 2^28 fits for every decimals ≤ 5.
+uint32_t decimal_units(uint32_t frac, uint8_t frac_bits, uint8_t decimals) {
+  uint32_t p5 = 1;
+  for (uint8_t i = 0; i < decimals; ++i) p5 *= 5u;
+  if (frac_bits <= decimals) return (frac * p5) << (decimals - frac_bits);
+  const uint8_t shift = static_cast<uint8_t>(frac_bits - decimals);
+  return (frac * p5 + (1ul << (shift - 1u))) >> shift;
+}
+
+}  // namespace
+
 void Output::write_fixed(int32_t value, uint8_t frac_bits, uint8_t decimals) {
   uint32_t scale = 1;  // 10^decimals
   for (uint8_t i = 0; i < decimals; ++i) scale *= 10u;
   const uint32_t magnitude = value < 0 ? 0u - static_cast<uint32_t>(value) : static_cast<uint32_t>(value);
   uint32_t whole = magnitude >> frac_bits;
-  const uint32_t frac = magnitude & ((1ul << frac_bits) - 1u);
-  const uint32_t half = frac_bits != 0 ? (1ul << (frac_bits - 1u)) : 0u;
-  // frac < 2^16 and scale <= 10^4: the product stays below 2^32.
-  uint32_t decimal = (frac * scale + half) >> frac_bits;
+  uint32_t decimal = decimal_units(magnitude & ((1ul << frac_bits) - 1u), frac_bits, decimals);
   if (decimal >= scale) {  // rounded up into the next unit, e.g. 209.996 -> 210.00
     ++whole;
     decimal -= scale;
@@ -44,6 +55,23 @@ void Output::write_fixed(int32_t value, uint8_t frac_bits, uint8_t decimals) {
   for (uint32_t digit = scale / 10u; digit != 0; digit /= 10u) {
     write_char(static_cast<char>('0' + (decimal / digit) % 10u));
   }
+}
+
+void Output::write_q16(int32_t value_q16) {
+  // The fewest decimals (2..5) whose rounded text parses back (number_to_fixed rounds to the
+  // nearest Q16) to the same fraction; 5 always does (10^-5 / 2 < 2^-17). units · 2^(16−d) ≤
+  // 10^5 · 2^14 < 2^31.
+  const uint32_t magnitude = value_q16 < 0 ? 0u - static_cast<uint32_t>(value_q16) : static_cast<uint32_t>(value_q16);
+  const uint32_t frac = magnitude & 0xFFFFu;
+  uint8_t decimals = 2;
+  for (; decimals < 5; ++decimals) {
+    const uint32_t units = decimal_units(frac, 16, decimals);
+    uint32_t p5 = 1;
+    for (uint8_t i = 0; i < decimals; ++i) p5 *= 5u;
+    const uint32_t back = ((units << (16u - decimals)) + p5 / 2u) / p5;
+    if (back == frac) break;
+  }
+  write_fixed(value_q16, 16, decimals);
 }
 
 void Output::error_line(const FlashText* reason) {

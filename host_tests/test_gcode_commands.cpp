@@ -66,7 +66,8 @@ TEST(GcodeCommands, M301SetsAnySubsetAndReports) {
   EXPECT_TRUE(rig.machine.calls.empty());
   EXPECT_EQ(rig.send("M301 P30 D50.5\n"), "echo: p:30.00 i:1.08 d:50.50\nok\n");
   EXPECT_EQ(rig.machine.calls, Calls{"set_pid 1966080 70779 3309568"});
-  EXPECT_EQ(rig.send("M301 I0.0123\n"), "echo: p:30.00 i:0.01 d:50.50\nok\n");
+  // Printed with the decimals it needs to read back (not "0.01", 19 % off).
+  EXPECT_EQ(rig.send("M301 I0.0123\n"), "echo: p:30.00 i:0.0123 d:50.50\nok\n");
   EXPECT_EQ(rig.machine.gains.ki_q16, 806);  // 0.0123 × 65536 = 806.1
 }
 

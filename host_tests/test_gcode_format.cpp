@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <string>
 
+#include "firmware/gcode_number.h"
 #include "host_tests/gcode_fakes.h"
 
 namespace {
@@ -70,7 +71,37 @@ TEST(GcodeFormat, Q16Gains) {
   out.write_q16(70779);    // 1.08
   out.write_char(' ');
   out.write_q16(0x7FFFFFFF);
-  EXPECT_EQ(out.text, "22.20 1.08 32768.00");
+  out.write_char(' ');
+  out.write_q16(596);      // 0.0091 (a tuned Ki): 0.01 would read back 10 % larger
+  EXPECT_EQ(out.text, "22.20 1.08 32767.99998 0.0091");
+}
+
+// M503 replays M301 exactly: every Q16 fraction prints with the fewest decimals (2..5) that
+// number_to_fixed reads back as the same value, and values typed with two decimals print as typed.
+TEST(GcodeFormat, Q16GainsReadBackExactly) {
+  int mismatches = 0;
+  for (int32_t frac = 0; frac < 65536; ++frac) {
+    for (const int32_t whole : {0, 7, 32767}) {
+      const int32_t value = whole * 65536 + frac;
+      StringOutput out;
+      out.write_q16(value);
+      int32_t parsed = -1;
+      const bool ok = gcode::number_to_fixed(out.text.c_str(), 16, &parsed);
+      if (!ok || parsed != value) {
+        ++mismatches;
+        ADD_FAILURE() << value << " printed " << out.text << ", read back " << parsed;
+      }
+      const std::size_t decimals = out.text.size() - out.text.find('.') - 1;
+      const bool two_do = std::lround(std::round(frac * 100.0 / 65536.0) * 65536.0 / 100.0) == frac;
+      if (two_do && decimals != 2) ADD_FAILURE() << out.text << ": two decimals read back";
+      if (mismatches > 5) return;
+    }
+  }
+  StringOutput typed;
+  int32_t q = 0;
+  ASSERT_TRUE(gcode::number_to_fixed("0.15", 16, &q));
+  typed.write_q16(q);
+  EXPECT_EQ(typed.text, "0.15");
 }
 
 TEST(GcodeFormat, DecimalsAndFractionBits) {
@@ -80,6 +111,9 @@ TEST(GcodeFormat, DecimalsAndFractionBits) {
   EXPECT_EQ(fixed(65536 / 3, 16, 4), "0.3333");
   EXPECT_EQ(fixed(1234, 0, 2), "1234.00");
   EXPECT_EQ(fixed(-2147483647 - 1, 16, 4), "-32768.0000");
+  EXPECT_EQ(fixed(65536 / 3, 16, 5), "0.33333");
+  EXPECT_EQ(fixed(65535, 16, 5), "0.99998");  // 0.9999847
+  EXPECT_EQ(fixed(65536 - 1, 16, 4), "1.0000");
 }
 
 // Every Q8 temperature from -50 to 400 °C against printf's correctly rounded output. The only

@@ -209,19 +209,15 @@ void ControllerCommands::report(gcode::Output& out) {
 
 void ControllerCommands::write_model(gcode::Output& out) const { write_m307(out, bank_.settings().model); }
 
-// Each value with two decimals when they read back as the same Q8 number, else three (0.001 <
-// 1/512 always does): the M503 line replays exactly, and the tune's model can be recomputed on
-// a host bit for bit, while typed values such as D20.7 still print as typed.
+// Each value as it reads back exactly (Output::write_exact): the M503 line replays exactly, and
+// the tune's model can be recomputed on a host bit for bit.
 void write_m307(gcode::Output& out, const control::HotendModel& m) {
   const int32_t values[4] = {m.rise_q8, m.time_constant_q8, m.dead_time_q8, m.fan_loss_pct_q8};
   out.print(GCODE_TEXT("M307"));
   for (uint8_t i = 0; i < 4; ++i) {
     out.write_char(' ');
     out.write_char(static_cast<char>(i == 0 ? 'A' : (i == 1 ? 'C' : (i == 2 ? 'D' : 'F'))));
-    // M307 values are 0..921,600 (Q8): ×100 stays below 2^31; report-time divisions only.
-    const uint32_t v = static_cast<uint32_t>(values[i]);
-    const uint32_t hundredths = (v * 100u + 128u) >> 8;
-    out.write_fixed(values[i], 8, ((hundredths << 8) + 50u) / 100u == v ? 2 : 3);
+    out.write_exact(values[i], 8);
   }
   out.end_line();
 }

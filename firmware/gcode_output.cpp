@@ -26,11 +26,17 @@ void Output::write_int(int32_t value) {
 
 namespace {
 
+uint32_t pow5(uint8_t n) {
+  uint32_t p = 1;
+  while (n-- != 0) p *= 5u;
+  return p;
+}
+
 // frac / 2^frac_bits in units of 10^-decimals, rounded to nearest: frac · 5^d · 2^d / 2^fb, so
 // the product frac · 5^d < 2^16 · 3125 < 2^28 fits for every decimals ≤ 5.
-uint32_t decimal_units(uint32_t frac, uint8_t frac_bits, uint8_t decimals) {
-  uint32_t p5 = 1;
-  for (uint8_t i = 0; i < decimals; ++i) p5 *= 5u;
+// noinline: write_fixed and write_exact share one copy (24 B of AVR flash).
+__attribute__((noinline)) uint32_t decimal_units(uint32_t frac, uint8_t frac_bits, uint8_t decimals) {
+  const uint32_t p5 = pow5(decimals);
   if (frac_bits <= decimals) return (frac * p5) << (decimals - frac_bits);
   const uint8_t shift = static_cast<uint8_t>(frac_bits - decimals);
   return (frac * p5 + (1ul << (shift - 1u))) >> shift;
@@ -57,21 +63,19 @@ void Output::write_fixed(int32_t value, uint8_t frac_bits, uint8_t decimals) {
   }
 }
 
-void Output::write_q16(int32_t value_q16) {
-  // The fewest decimals (2..5) whose rounded text parses back (number_to_fixed rounds to the
-  // nearest Q16) to the same fraction; 5 always does (10^-5 / 2 < 2^-17). units · 2^(16−d) ≤
-  // 10^5 · 2^14 < 2^31.
-  const uint32_t magnitude = value_q16 < 0 ? 0u - static_cast<uint32_t>(value_q16) : static_cast<uint32_t>(value_q16);
-  const uint32_t frac = magnitude & 0xFFFFu;
+void Output::write_exact(int32_t value, uint8_t frac_bits) {
+  // The fewest decimals (2 up) whose rounded text parses back (number_to_fixed rounds to the
+  // nearest 2^-frac_bits) to the same fraction: at most 3 for Q8, 5 for Q16 (10^-d / 2 <
+  // 2^-(frac_bits + 1)). units · 2^(fb − d) ≤ 10^5 · 2^14 < 2^31.
+  const uint32_t magnitude = value < 0 ? 0u - static_cast<uint32_t>(value) : static_cast<uint32_t>(value);
+  const uint32_t frac = magnitude & ((1ul << frac_bits) - 1u);
   uint8_t decimals = 2;
-  for (; decimals < 5; ++decimals) {
-    const uint32_t units = decimal_units(frac, 16, decimals);
-    uint32_t p5 = 1;
-    for (uint8_t i = 0; i < decimals; ++i) p5 *= 5u;
-    const uint32_t back = ((units << (16u - decimals)) + p5 / 2u) / p5;
+  for (; decimals < 5 && decimals < frac_bits; ++decimals) {
+    const uint32_t p5 = pow5(decimals);
+    const uint32_t back = ((decimal_units(frac, frac_bits, decimals) << (frac_bits - decimals)) + p5 / 2u) / p5;
     if (back == frac) break;
   }
-  write_fixed(value_q16, 16, decimals);
+  write_fixed(value, frac_bits, decimals);
 }
 
 void Output::error_line(const FlashText* reason) {

@@ -22,10 +22,12 @@ class Output {
   // (halves away from zero), e.g. write_fixed(53759, 8, 2) -> "210.00". frac_bits 0..16.
   void write_fixed(int32_t value, uint8_t frac_bits, uint8_t decimals);
   void write_q8(int32_t value_q8) { write_fixed(value_q8, 8, 2); }  // temperatures
-  // Gains: two decimals, or up to five where fewer would not read back as the same Q16 value
-  // (M503's M301 must replay exactly: a tuned Ki of 0.0091 printed as 0.01 is 10 % off, and a
-  // gain just under the fuzzy schedule's limit, rounded up, was refused on replay).
-  void write_q16(int32_t value_q16);
+  // Two decimals, or more (up to 3 for Q8, 5 for Q16) where fewer would not read back as the
+  // same value: what M503 prints must replay exactly (a tuned Ki of 0.0091 printed as 0.01 is
+  // 10 % off, and a gain just under the fuzzy schedule's limit, rounded up, was refused on
+  // replay), while typed values such as D20.7 or P22.2 still print as typed. frac_bits 8..16.
+  void write_exact(int32_t value, uint8_t frac_bits);
+  void write_q16(int32_t value_q16) { write_exact(value_q16, 16); }  // gains
   void end_line() { write_char('\n'); }
   // "Error:" + text + "\n" — the reply for refused input (see Machine's refusal reasons).
   void error_line(const FlashText* reason);

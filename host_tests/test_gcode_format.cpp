@@ -76,7 +76,7 @@ TEST(GcodeFormat, Q16Gains) {
   EXPECT_EQ(out.text, "22.20 1.08 32767.99998 0.0091");
 }
 
-// M503 replays M301 exactly: every Q16 fraction prints with the fewest decimals (2..5) that
+// M503 replays M301 and M307 exactly: every Q16 fraction (and Q8 value) prints with the fewest decimals (2..5) that
 // number_to_fixed reads back as the same value, and values typed with two decimals print as typed.
 TEST(GcodeFormat, Q16GainsReadBackExactly) {
   int mismatches = 0;
@@ -95,6 +95,15 @@ TEST(GcodeFormat, Q16GainsReadBackExactly) {
       const bool two_do = std::lround(std::round(frac * 100.0 / 65536.0) * 65536.0 / 100.0) == frac;
       if (two_do && decimals != 2) ADD_FAILURE() << out.text << ": two decimals read back";
       if (mismatches > 5) return;
+    }
+  }
+  for (int32_t value = 0; value < 921600; value += 7) {  // Q8 (M307's range): 2 or 3 decimals
+    StringOutput out;
+    out.write_exact(value, 8);
+    int32_t parsed = -1;
+    if (!gcode::number_to_fixed(out.text.c_str(), 8, &parsed) || parsed != value) {
+      ADD_FAILURE() << value << " printed " << out.text << ", read back " << parsed;
+      return;
     }
   }
   StringOutput typed;

@@ -34,10 +34,10 @@ std::vector<Setup> setups(const Options& o) {
     out.push_back({v.substr(0, eq), "", eq == std::string::npos ? "" : v.substr(eq + 1)});
   }
   if (!out.empty()) return out;
-  // --autotune: M303 U1's controller beside the same controller from the plant's own model
-  // and Marlin's M303 (relay + classic Ziegler–Nichols).
+  // --autotune: M303 U1's controller beside the two it picks from (pid+ff, statefb) designed
+  // from the plant's own model, and Marlin's M303 (relay + classic Ziegler–Nichols).
   const std::vector<std::string> names = o.has("controllers") ? split(o.get("controllers"), ',')
-                                         : o.has("autotune")  ? std::vector<std::string>{kAutotune, "pid+ff", "marlin-zn"}
+                                         : o.has("autotune")  ? std::vector<std::string>{kAutotune, "pid+ff", "statefb", "marlin-zn"}
                                                               : controller_names();
   for (const std::string& n : names) out.push_back({n, n, ""});
   return out;

@@ -124,23 +124,46 @@ inline void sf_set(const SfField& f, int32_t value) {
 }
 
 // The canonical upload of k: ceil(kSfFieldCount / 8) lines "M311 I<i> A<v> ... H<v>" (every
-// field, zeros included) and "M311 W1". put_line(const char*) gets each line without newline.
+// field, zeros included) and "M311 W1", told to a sink: begin_line(first) starts
+// "M311 I<first>", field(letter, value) adds " <letter><value>", end_line() ends it, and
+// commit_line() is the "M311 W1" line. (The firmware's sink prints straight to the serial
+// output: no line buffer, no second integer formatter.)
+template <class Sink>
+void write_state_feedback_lines(const StateFeedbackConstants& k, Sink& sink) {
+  for (uint8_t first = 0; first < kSfFieldCount; first = static_cast<uint8_t>(first + kSfFieldsPerLine)) {
+    sink.begin_line(first);
+    for (uint8_t j = 0; j < kSfFieldsPerLine && first + j < kSfFieldCount; ++j)
+      sink.field(static_cast<char>('A' + j), sf_get(k, static_cast<uint8_t>(first + j)));
+    sink.end_line();
+  }
+  sink.commit_line();
+}
+
+// The same lines as text: put_line(const char*) gets each line without newline.
 template <class PutLine>
 void write_state_feedback_mcode(const StateFeedbackConstants& k, PutLine put_line) {
-  char line[8 + kSfFieldsPerLine * 13 + 1];  // "M311 I96" + 8 × " A" and up to 11 characters
-  for (uint8_t first = 0; first < kSfFieldCount; first = static_cast<uint8_t>(first + kSfFieldsPerLine)) {
-    char* p = line;
-    sf_gcode_detail::append(p, "M311 I");
-    sf_gcode_detail::append_int(p, first);
-    for (uint8_t j = 0; j < kSfFieldsPerLine && first + j < kSfFieldCount; ++j) {
-      *p++ = ' ';
-      *p++ = static_cast<char>('A' + j);
-      sf_gcode_detail::append_int(p, sf_get(k, static_cast<uint8_t>(first + j)));
+  struct LineSink {
+    PutLine& put_line;
+    char line[8 + kSfFieldsPerLine * 13 + 1];  // "M311 I96" + 8 × " A" and up to 11 characters
+    char* p;
+    void begin_line(uint8_t first) {
+      p = line;
+      sf_gcode_detail::append(p, "M311 I");
+      sf_gcode_detail::append_int(p, first);
     }
-    *p = '\0';
-    put_line(static_cast<const char*>(line));
-  }
-  put_line("M311 W1");
+    void field(char letter, int32_t value) {
+      *p++ = ' ';
+      *p++ = letter;
+      sf_gcode_detail::append_int(p, value);
+    }
+    void end_line() {
+      *p = '\0';
+      put_line(static_cast<const char*>(line));
+    }
+    void commit_line() { put_line("M311 W1"); }
+  };
+  LineSink sink{put_line, {}, nullptr};
+  write_state_feedback_lines(k, sink);
 }
 
 }  // namespace control

@@ -249,11 +249,29 @@ void ControllerCommands::write_upload(gcode::Output& out, const gcode::FlashText
     out.print(prefix);
     return out.print(GCODE_TEXT("M311 ; no state-feedback constants loaded\n"));
   }
-  control::write_state_feedback_mcode(bank_.state_feedback_constants(), [&](const char* line) {
-    out.print(prefix);
-    out.write(line);
-    out.end_line();
-  });
+  // Straight to the output (control/state_feedback_gcode.h's line buffer and integer formatter
+  // cost ~300 B of AVR flash beside Output's own).
+  struct Sink {
+    gcode::Output& out;
+    const gcode::FlashText* prefix;
+    void begin_line(uint8_t first) {
+      out.print(prefix);
+      out.print(GCODE_TEXT("M311 I"));
+      out.write_uint(first);
+    }
+    void field(char letter, int32_t value) {
+      out.write_char(' ');
+      out.write_char(letter);
+      out.write_int(value);
+    }
+    void end_line() { out.end_line(); }
+    void commit_line() {
+      out.print(prefix);
+      out.print(GCODE_TEXT("M311 W1\n"));
+    }
+  };
+  Sink sink{out, prefix};
+  control::write_state_feedback_lines(bank_.state_feedback_constants(), sink);
 }
 
 }  // namespace firmware

@@ -151,27 +151,28 @@ __attribute__((noinline)) void ControllerCommands::upload(const gcode::Command& 
   const bool writes = has_any(cmd, 'A', 'H');
   if (writes) {
     if (!cmd.require('I', out) || !cmd.integer('I', 0, control::kSfFieldCount - 1, &first, out)) return;
-    int32_t values[control::kSfFieldsPerLine];
-    for (uint8_t j = 0; j < control::kSfFieldsPerLine; ++j) {  // check the whole line first...
-      const char letter = static_cast<char>('A' + j);
-      if (!cmd.has(letter)) continue;
-      const control::SfField field = control::sf_field(staging, static_cast<uint8_t>(first + j));
-      if (field.address == nullptr) {
-        out.print(GCODE_TEXT("Error:M311 "));
-        out.write_char(letter);
-        out.print(GCODE_TEXT(": field index beyond "));
-        out.write_uint(control::kSfFieldCount - 1);
-        return out.end_line();
+    // Check the whole line first, then write it: the second pass reads each value again (it
+    // passed the first), which keeps a second array of 8 values off the stack.
+    for (uint8_t pass = 0; pass < 2; ++pass) {
+      for (uint8_t j = 0; j < control::kSfFieldsPerLine; ++j) {
+        const char letter = static_cast<char>('A' + j);
+        if (!cmd.has(letter)) continue;
+        const control::SfField field = control::sf_field(staging, static_cast<uint8_t>(first + j));
+        if (field.address == nullptr) {
+          out.print(GCODE_TEXT("Error:M311 "));
+          out.write_char(letter);
+          out.print(GCODE_TEXT(": field index beyond "));
+          out.write_uint(control::kSfFieldCount - 1);
+          return out.end_line();
+        }
+        int32_t lo, hi, value;
+        control::sf_field_range(field.type, &lo, &hi);
+        if (!cmd.integer(letter, lo, hi, &value, out)) return;
+        if (pass == 1) {
+          previous[j] = control::sf_get(field);
+          control::sf_set(field, value);
+        }
       }
-      int32_t lo, hi;
-      control::sf_field_range(field.type, &lo, &hi);
-      if (!cmd.integer(letter, lo, hi, &values[j], out)) return;
-    }
-    for (uint8_t j = 0; j < control::kSfFieldsPerLine; ++j) {  // ...then write it
-      if (!cmd.has(static_cast<char>('A' + j))) continue;
-      const control::SfField field = control::sf_field(staging, static_cast<uint8_t>(first + j));
-      previous[j] = control::sf_get(field);
-      control::sf_set(field, values[j]);
     }
   }
   if (commit == 1 && !bank_.load_state_feedback(staging, now)) {

@@ -142,14 +142,18 @@ uint16_t FuzzyPid::step(const StepInput& in) {
     case 1:
       deltas_ = fuzzy::interpolate<fuzzy::kSurfaceStepShift>(load_, e_u_q8_, ec_u_q8_);
       break;
-    case 2:
-      schedule(base_c_.kp, scale_c_.kp, deltas_.dkp_q8, pending_.kp);
-      schedule(base_c_.ki, scale_c_.ki, deltas_.dki_q8, pending_.ki);
+    default: {
+      // Phase 2: kp and ki; phase 3: kd, then apply. One inlined schedule() in a loop over the
+      // three coefficients (a copy per coefficient cost ~500 B of AVR flash).
+      const fixed::Multiplier* base[3] = {&base_c_.kp, &base_c_.ki, &base_c_.kd};
+      const fixed::Multiplier* scale[3] = {&scale_c_.kp, &scale_c_.ki, &scale_c_.kd};
+      const uint16_t delta_q8[3] = {deltas_.dkp_q8, deltas_.dki_q8, deltas_.dkd_q8};
+      fixed::Multiplier* out[3] = {&pending_.kp, &pending_.ki, &pending_.kd};
+      const uint8_t last = phase_ == 2 ? 2 : 3;
+      for (uint8_t i = phase_ == 2 ? 0 : 2; i < last; ++i) schedule(*base[i], *scale[i], delta_q8[i], *out[i]);
+      if (last == 3) pid_.set_coefficients(pending_);
       break;
-    default:
-      schedule(base_c_.kd, scale_c_.kd, deltas_.dkd_q8, pending_.kd);
-      pid_.set_coefficients(pending_);
-      break;
+    }
   }
   phase_ = static_cast<uint8_t>((phase_ + 1) & 3);
   return pid_.step(in.target_q8, in.measured_q8);

@@ -92,11 +92,8 @@ class FuzzyPid final : public Controller {
   static constexpr uint8_t kEcFilterShift = 2;  // ec low-pass: α = 1/4 per period (τ ≈ 3.5 periods)
   static constexpr uint8_t kEcFrac = 4;         // extra fraction bits of the filtered change
 
+  // The step's scalars first, the PID (86 bytes) last: AVR's LDD/STD reach offsets 0..63 only.
   fuzzy::LoadCell load_;
-  Pid pid_;
-  PidCoefficients base_c_{{0, 0}, {0, 0}, {0, 0}};   // Pid::coefficients(config_.base)
-  PidCoefficients scale_c_{{0, 0}, {0, 0}, {0, 0}};  // Pid::coefficients(config_.scale)
-  FuzzyPidConfig config_{{0, 0, 0}, {0, 0, 0}, kSeedEFactorQ12, kSeedEcFactorQ12};
   int32_t e_limit_q8_ = 0;           // error clamp just past universe saturation, temp_q8
   uint16_t ec_gain_q12_ = 0;         // universe per (temp_q8 change per period) × 256, Q12
   int16_t change_q12_ = 0;           // filtered measurement change per period, °C × 2^12
@@ -104,10 +101,14 @@ class FuzzyPid final : public Controller {
   bool have_previous_ = false;
   uint8_t phase_ = 0;                // supervisor work of this step: 0 inputs, 1 surfaces,
                                      // 2 kp and ki, 3 kd and apply (step() comments why)
-  PidCoefficients pending_{{0, 0}, {0, 0}, {0, 0}};  // the schedule being computed
-  fuzzy::Deltas deltas_{0, 0, 0};
   int16_t e_u_q8_ = 0;
   int16_t ec_u_q8_ = 0;
+  fuzzy::Deltas deltas_{0, 0, 0};
+  FuzzyPidConfig config_{{0, 0, 0}, {0, 0, 0}, kSeedEFactorQ12, kSeedEcFactorQ12};
+  PidCoefficients base_c_{{0, 0}, {0, 0}, {0, 0}};   // Pid::coefficients(config_.base)
+  PidCoefficients scale_c_{{0, 0}, {0, 0}, {0, 0}};  // Pid::coefficients(config_.scale)
+  PidCoefficients pending_{{0, 0}, {0, 0}, {0, 0}};  // the schedule being computed
+  Pid pid_;
 };
 
 }  // namespace control

@@ -105,13 +105,9 @@ class Pid final : public Controller {
 
   void move_integrator(uint32_t magnitude_q32, bool down);  // ± within 0..100 % (anti-windup)
 
-  PidGains gains_{0, 0, 0};
   uint16_t period_ms_ = 0;
   uint16_t alpha_q16_ = 0;               // derivative low-pass α = h/(Tf + h), Q16
   PidCoefficients c_{{0, 0}, {0, 0}, {0, 0}};  // in use
-  uint32_t kp_ceiling_ = 0;              // whole parts configure() set: set_coefficients' caps
-  uint32_t ki_ceiling_ = 0;
-  uint32_t kd_ceiling_ = 0;
   // Input clamps that keep products in int32; each binds only where its term is already far
   // beyond full power (P: 64×, raw D: 32×) or one sample's increment exceeds ⅛ of full power.
   int32_t p_error_limit_q8_ = 0;         // |e| for P: |P| ≤ 2^30 q24
@@ -124,6 +120,11 @@ class Pid final : public Controller {
   int32_t bumpless_q24_ = 0;             // output to continue from at the next step
   bool have_previous_ = false;           // false until the first step after reset(): no D from it
   bool bumpless_pending_ = false;
+  // Set-up values last: the step's members above sit within AVR's LDD/STD reach (offset <= 63).
+  PidGains gains_{0, 0, 0};
+  uint32_t kp_ceiling_ = 0;              // whole parts configure() set: set_coefficients' caps
+  uint32_t ki_ceiling_ = 0;
+  uint32_t kd_ceiling_ = 0;
 };
 
 }  // namespace control

@@ -46,17 +46,18 @@ class StateFeedback final : public Controller {
   void fir_chunk(uint8_t chunk);
   int16_t history(uint8_t j) const;  // v[k−j] (duty Q15), k = the last law update
 
-  StateFeedbackConstants k_ = {};
-  int32_t x_q16_[kSfMaxStates] = {};
-  uint32_t residual_[kSfMaxStates] = {};  // time-update bits below Q16, carried (no dead band)
-  int32_t bias_ = 0;                      // d̂, duty Q(16+p)
-  int32_t fir_ = 0;                       // Σ h_j v[k+1−j] (pre-shifted by 8), next law update
-  int16_t hist_[kSfMaxDelay + 1] = {};    // ring of effective inputs v (duty minus fan), Q15
+  // Scalars first: AVR's LDD/STD reach offsets 0..63 only (k_ is 174 bytes).
   uint8_t head_ = 0;                      // index of u[k] in hist_
   uint8_t phase_ = 0;                     // which call of the law period comes next
   uint16_t duty_q16_ = 0;
   bool configured_ = false;
   bool primed_ = false;
+  int32_t bias_ = 0;                      // d̂, duty Q(16+p)
+  int32_t fir_ = 0;                       // Σ h_j v[k+1−j] (pre-shifted by 8), next law update
+  StateFeedbackConstants k_ = {};
+  int32_t x_q16_[kSfMaxStates] = {};
+  uint32_t residual_[kSfMaxStates] = {};  // time-update bits below Q16, carried (no dead band)
+  int16_t hist_[kSfMaxDelay + 1] = {};    // ring of effective inputs v (duty minus fan), Q15
 };
 
 }  // namespace control

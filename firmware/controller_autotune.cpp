@@ -30,6 +30,41 @@ void write_gain_line(gcode::Output& out, const gcode::FlashText* name, int32_t v
   out.end_line();
 }
 
+// Marlin's closing lines, which host plugins parse, then this firmware's own: the model, the
+// gains as commands. noinline (as write_sf_summary): inside write_result, whose frame holds the
+// design's scratch (432 B), every local sat beyond AVR's 63-byte LDD/STD reach.
+__attribute__((noinline)) void write_design(gcode::Output& out, const control::AutotuneResult& r,
+                                            const control::TunedDesign& d) {
+  write_gains(out, GCODE_TEXT(" Kp: "), GCODE_TEXT(" Ki: "), GCODE_TEXT(" Kd: "), d.pid);
+  out.print(GCODE_TEXT("\nPID Autotune finished! Put the last Kp, Ki and Kd constants from below into "
+                       "Configuration.h\n"));
+  write_gain_line(out, GCODE_TEXT("Kp"), d.pid.kp_q16);
+  write_gain_line(out, GCODE_TEXT("Ki"), d.pid.ki_q16);
+  write_gain_line(out, GCODE_TEXT("Kd"), d.pid.kd_q16);
+  out.print(r.hot_start ? GCODE_TEXT("echo:Autotune model (hot start: cool-down, relay")
+                        : GCODE_TEXT("echo:Autotune model (cold start: heat-up, relay"));
+  out.print(r.model.fan_loss_pct_q8 != 0 ? GCODE_TEXT(", part fan): ") : GCODE_TEXT("): "));
+  write_m307(out, r.model);
+  out.print(GCODE_TEXT("echo:Autotune PID (SIMC PI on that model, dead time "));
+  out.write_q8(d.model.dead_time_q8);
+  out.print(GCODE_TEXT(" s): M301"));
+  write_gains(out, GCODE_TEXT(" P"), GCODE_TEXT(" I"), GCODE_TEXT(" D"), d.pid);
+  out.end_line();
+}
+
+// The board's state-feedback design in one line (nullptr: it failed).
+__attribute__((noinline)) void write_sf_summary(gcode::Output& out, const control::StateFeedbackConstants* sf) {
+  if (sf == nullptr) {
+    out.print(GCODE_TEXT("echo:Autotune state feedback: this model is outside what the board designs\n"));
+    return;
+  }
+  out.print(GCODE_TEXT("echo:Autotune state feedback designed: law every "));
+  out.write_uint(sf->decimation);
+  out.print(GCODE_TEXT(" x 128 ms, predictor over "));
+  out.write_uint(sf->delay);
+  out.print(GCODE_TEXT(" law periods (M503 lists its M311 lines once applied)\n"));
+}
+
 }  // namespace
 
 bool AutotuneJob::begin(const gcode::Command& cmd, gcode::Output& out, const gcode::FlashText* refusal,
@@ -161,37 +196,13 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
     write_m307(out, r.model);
     return;
   }
-  // Marlin's closing lines, which host plugins parse.
-  write_gains(out, GCODE_TEXT(" Kp: "), GCODE_TEXT(" Ki: "), GCODE_TEXT(" Kd: "), d.pid);
-  out.print(GCODE_TEXT("\nPID Autotune finished! Put the last Kp, Ki and Kd constants from below into "
-                       "Configuration.h\n"));
-  write_gain_line(out, GCODE_TEXT("Kp"), d.pid.kp_q16);
-  write_gain_line(out, GCODE_TEXT("Ki"), d.pid.ki_q16);
-  write_gain_line(out, GCODE_TEXT("Kd"), d.pid.kd_q16);
-  // This firmware's own lines: the model, the gains as commands, what U1 does.
-  out.print(r.hot_start ? GCODE_TEXT("echo:Autotune model (hot start: cool-down, relay")
-                        : GCODE_TEXT("echo:Autotune model (cold start: heat-up, relay"));
-  out.print(r.model.fan_loss_pct_q8 != 0 ? GCODE_TEXT(", part fan): ") : GCODE_TEXT("): "));
-  write_m307(out, r.model);
-  out.print(GCODE_TEXT("echo:Autotune PID (SIMC PI on that model, dead time "));
-  out.write_q8(d.model.dead_time_q8);
-  out.print(GCODE_TEXT(" s): M301"));
-  write_gains(out, GCODE_TEXT(" P"), GCODE_TEXT(" I"), GCODE_TEXT(" D"), d.pid);
-  out.end_line();
+  write_design(out, r, d);
   // State feedback + observer + dead-time predictor, designed here from the same model
   // (control/state_feedback_autodesign.h: ~400 k cycles, run right after a control step, so it
   // ends well before the next one is due).
   control::StateFeedbackConstants sf;
   const bool sf_ok = control::design_state_feedback_fopdt(d.model, kControlPeriodMs, &sf);
-  if (sf_ok) {
-    out.print(GCODE_TEXT("echo:Autotune state feedback designed: law every "));
-    out.write_uint(sf.decimation);
-    out.print(GCODE_TEXT(" x 128 ms, predictor over "));
-    out.write_uint(sf.delay);
-    out.print(GCODE_TEXT(" law periods (M503 lists its M311 lines once applied)\n"));
-  } else {
-    out.print(GCODE_TEXT("echo:Autotune state feedback: this model is outside what the board designs\n"));
-  }
+  write_sf_summary(out, sf_ok ? &sf : nullptr);
   // Which controller holds such a hotend best (measured over the plant bank, docs/bench): state
   // feedback unless the dead time is at least half the time constant; there the PID following
   // the model's heat-up overshot less (seed002: 0.02 vs 1.69 °C).

@@ -1,6 +1,10 @@
 #include "firmware/controller_commands.h"
 
+#include <stddef.h>
+#include <string.h>
+
 #include "control/state_feedback_gcode.h"
+#include "firmware/flash_copy.h"
 
 namespace firmware {
 namespace {
@@ -40,6 +44,71 @@ bool has_any(const gcode::Command& cmd, char first, char last) {
   return false;
 }
 
+// One setting a parameter letter edits: where it lives in Settings, its width (1 or 2 bytes
+// unsigned, or int32) and what the command accepts (Command::fixed prints these bounds).
+// Tables of these in flash replace a call with ten constant arguments per letter (~500 B).
+struct SettingParam {
+  char letter;
+  uint8_t frac_bits;
+  uint8_t offset;
+  uint8_t bytes;
+  int32_t lo;
+  int32_t hi;
+};
+
+#define SETTING_PARAM(letter, frac_bits, field, lo, hi)                                          \
+  SettingParam {                                                                                \
+    letter, frac_bits, static_cast<uint8_t>(offsetof(Settings, field)),                         \
+        static_cast<uint8_t>(sizeof(static_cast<Settings*>(nullptr)->field)), lo, hi            \
+  }
+
+const SettingParam kModelParams[] GCODE_PROGMEM = {  // M307
+    SETTING_PARAM('A', 8, model.rise_q8, control::kModelMinRiseQ8, control::kModelMaxRiseQ8),
+    SETTING_PARAM('C', 8, model.time_constant_q8, control::kModelMinTimeConstantQ8,
+                  control::kModelMaxTimeConstantQ8),
+    SETTING_PARAM('D', 8, model.dead_time_q8, 0, control::kModelMaxDeadTimeQ8),
+    SETTING_PARAM('F', 8, model.fan_loss_pct_q8, 0, control::kModelMaxFanLossPctQ8)};
+const SettingParam kSelectParams[] GCODE_PROGMEM = {  // M310
+    SETTING_PARAM('S', 0, controller, 0, kControllerCount - 1), SETTING_PARAM('F', 0, feedforward, 0, 1)};
+const SettingParam kFuzzyParams[] GCODE_PROGMEM = {  // M312
+    SETTING_PARAM('S', 0, fuzzy_spread_pct, 0, kMaxFuzzySpreadPct),
+    SETTING_PARAM('E', 12, fuzzy_e_factor_q12, kMinEFactorQ12, kMaxEFactorQ12),
+    SETTING_PARAM('C', 12, fuzzy_ec_factor_q12, kMinEcFactorQ12, kMaxEcFactorQ12)};
+const SettingParam kProtectionParams[] GCODE_PROGMEM = {  // M570
+    SETTING_PARAM('T', 0, protect_tuned_c, kProtectMinC, kProtectMaxC),
+    SETTING_PARAM('U', 0, protect_default_c, kProtectMinC, kProtectMaxC),
+    SETTING_PARAM('P', 0, watch_period_s, kWatchMinPeriodS, kWatchMaxPeriodS),
+    SETTING_PARAM('S', 0, model_tuned, 0, 1)};
+#undef SETTING_PARAM
+
+// Every parameter of the table checked (the first bad one gets its Error line and nothing
+// changes), then, if any was given, the edited copy applied. False when none was given: the
+// caller reports instead. `model_measured`: M307 marks the model as the host's (model_tuned).
+bool edit_settings(ControllerBank& bank, const gcode::Command& cmd, gcode::Output& out, const HandOver& now,
+                   const SettingParam* table, uint8_t count, bool model_measured) {
+  Settings next = bank.settings();
+  bool given = false;
+  for (uint8_t i = 0; i < count; ++i) {
+    SettingParam param;
+    flash_copy(&param, &table[i], sizeof param);
+    uint8_t* field = reinterpret_cast<uint8_t*>(&next) + param.offset;
+    int32_t value = 0;  // little-endian on both targets: 1- and 2-byte fields are unsigned
+    memcpy(&value, field, param.bytes);
+    if (!cmd.fixed(param.letter, param.frac_bits, param.lo, param.hi, &value, out)) return true;
+    memcpy(field, &value, param.bytes);
+    given = given || cmd.has(param.letter);
+  }
+  if (!given) return false;
+  if (model_measured) next.model_tuned = 1;  // the host vouches for it: the model check gets tight (M570 T)
+  write_refusal(out, bank.apply(next, now));
+  return true;
+}
+
+template <uint8_t N>
+constexpr uint8_t count_of(const SettingParam (&)[N]) {
+  return N;
+}
+
 }  // namespace
 
 // noinline: LTO inlined it into more than one caller (72 B of AVR flash as a call).
@@ -59,32 +128,13 @@ __attribute__((noinline)) bool ControllerCommands::handle(const gcode::Command& 
 }
 
 void ControllerCommands::model(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
-  Settings next = bank_.settings();
-  control::HotendModel& m = next.model;
-  if (!cmd.fixed('A', 8, control::kModelMinRiseQ8, control::kModelMaxRiseQ8, &m.rise_q8, out) ||
-      !cmd.fixed('C', 8, control::kModelMinTimeConstantQ8, control::kModelMaxTimeConstantQ8, &m.time_constant_q8, out) ||
-      !cmd.fixed('D', 8, 0, control::kModelMaxDeadTimeQ8, &m.dead_time_q8, out) ||
-      !cmd.fixed('F', 8, 0, control::kModelMaxFanLossPctQ8, &m.fan_loss_pct_q8, out)) {
-    return;
-  }
-  if (cmd.has('A') || has_any(cmd, 'C', 'D') || cmd.has('F')) {
-    next.model_tuned = 1;  // the host vouches for it: the model check gets tight (M570 T)
-    return write_refusal(out, bank_.apply(next, now));
-  }
+  if (edit_settings(bank_, cmd, out, now, kModelParams, count_of(kModelParams), true)) return;
   out.print(GCODE_TEXT("echo:"));
   write_model(out);
 }
 
 void ControllerCommands::select(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
-  Settings next = bank_.settings();
-  int32_t controller = next.controller;
-  int32_t feedforward = next.feedforward;
-  if (!cmd.integer('S', 0, kControllerCount - 1, &controller, out) || !cmd.integer('F', 0, 1, &feedforward, out)) return;
-  if (cmd.has('S') || cmd.has('F')) {
-    next.controller = static_cast<uint8_t>(controller);
-    next.feedforward = static_cast<uint8_t>(feedforward);
-    return write_refusal(out, bank_.apply(next, now));
-  }
+  if (edit_settings(bank_, cmd, out, now, kSelectParams, count_of(kSelectParams), false)) return;
   out.print(GCODE_TEXT("echo:"));
   write_selection(out);
 }
@@ -101,27 +151,28 @@ __attribute__((noinline)) void ControllerCommands::upload(const gcode::Command& 
   const bool writes = has_any(cmd, 'A', 'H');
   if (writes) {
     if (!cmd.require('I', out) || !cmd.integer('I', 0, control::kSfFieldCount - 1, &first, out)) return;
-    int32_t values[control::kSfFieldsPerLine];
-    for (uint8_t j = 0; j < control::kSfFieldsPerLine; ++j) {  // check the whole line first...
-      const char letter = static_cast<char>('A' + j);
-      if (!cmd.has(letter)) continue;
-      const control::SfField field = control::sf_field(staging, static_cast<uint8_t>(first + j));
-      if (field.address == nullptr) {
-        out.print(GCODE_TEXT("Error:M311 "));
-        out.write_char(letter);
-        out.print(GCODE_TEXT(": field index beyond "));
-        out.write_uint(control::kSfFieldCount - 1);
-        return out.end_line();
+    // Check the whole line first, then write it: the second pass reads each value again (it
+    // passed the first), which keeps a second array of 8 values off the stack.
+    for (uint8_t pass = 0; pass < 2; ++pass) {
+      for (uint8_t j = 0; j < control::kSfFieldsPerLine; ++j) {
+        const char letter = static_cast<char>('A' + j);
+        if (!cmd.has(letter)) continue;
+        const control::SfField field = control::sf_field(staging, static_cast<uint8_t>(first + j));
+        if (field.address == nullptr) {
+          out.print(GCODE_TEXT("Error:M311 "));
+          out.write_char(letter);
+          out.print(GCODE_TEXT(": field index beyond "));
+          out.write_uint(control::kSfFieldCount - 1);
+          return out.end_line();
+        }
+        int32_t lo, hi, value;
+        control::sf_field_range(field.type, &lo, &hi);
+        if (!cmd.integer(letter, lo, hi, &value, out)) return;
+        if (pass == 1) {
+          previous[j] = control::sf_get(field);
+          control::sf_set(field, value);
+        }
       }
-      int32_t lo, hi;
-      control::sf_field_range(field.type, &lo, &hi);
-      if (!cmd.integer(letter, lo, hi, &values[j], out)) return;
-    }
-    for (uint8_t j = 0; j < control::kSfFieldsPerLine; ++j) {  // ...then write it
-      if (!cmd.has(static_cast<char>('A' + j))) continue;
-      const control::SfField field = control::sf_field(staging, static_cast<uint8_t>(first + j));
-      previous[j] = control::sf_get(field);
-      control::sf_set(field, values[j]);
     }
   }
   if (commit == 1 && !bank_.load_state_feedback(staging, now)) {
@@ -135,20 +186,7 @@ __attribute__((noinline)) void ControllerCommands::upload(const gcode::Command& 
 }
 
 void ControllerCommands::fuzzy(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
-  Settings next = bank_.settings();
-  int32_t spread = next.fuzzy_spread_pct;
-  int32_t e_q12 = next.fuzzy_e_factor_q12;
-  int32_t ec_q12 = next.fuzzy_ec_factor_q12;
-  if (!cmd.integer('S', 0, kMaxFuzzySpreadPct, &spread, out) || !cmd.fixed('E', 12, kMinEFactorQ12, kMaxEFactorQ12, &e_q12, out) ||
-      !cmd.fixed('C', 12, kMinEcFactorQ12, kMaxEcFactorQ12, &ec_q12, out)) {
-    return;
-  }
-  if (cmd.has('S') || cmd.has('E') || cmd.has('C')) {
-    next.fuzzy_spread_pct = static_cast<uint8_t>(spread);
-    next.fuzzy_e_factor_q12 = static_cast<uint16_t>(e_q12);
-    next.fuzzy_ec_factor_q12 = static_cast<uint16_t>(ec_q12);
-    return write_refusal(out, bank_.apply(next, now));
-  }
+  if (edit_settings(bank_, cmd, out, now, kFuzzyParams, count_of(kFuzzyParams), false)) return;
   out.print(GCODE_TEXT("echo:"));
   write_fuzzy(out);
 }
@@ -160,21 +198,7 @@ void ControllerCommands::sync_staging() { bank_.sync_staging(); }
 // check uses: M307 and M303 set it, and M503 prints it after M307 so that replaying M503 keeps a
 // model that M303 left on the wide margin (hot start, lag-dominated) there. All checked first.
 void ControllerCommands::protection(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
-  Settings next = bank_.settings();
-  int32_t tuned = next.protect_tuned_c, fallback = next.protect_default_c, period = next.watch_period_s;
-  int32_t tight = next.model_tuned;
-  if (!cmd.integer('T', kProtectMinC, kProtectMaxC, &tuned, out) ||
-      !cmd.integer('U', kProtectMinC, kProtectMaxC, &fallback, out) ||
-      !cmd.integer('P', kWatchMinPeriodS, kWatchMaxPeriodS, &period, out) || !cmd.integer('S', 0, 1, &tight, out)) {
-    return;
-  }
-  if (cmd.has('T') || cmd.has('U') || cmd.has('P') || cmd.has('S')) {
-    next.protect_tuned_c = static_cast<uint8_t>(tuned);
-    next.protect_default_c = static_cast<uint8_t>(fallback);
-    next.watch_period_s = static_cast<uint16_t>(period);
-    next.model_tuned = static_cast<uint8_t>(tight);
-    return write_refusal(out, bank_.apply(next, now));
-  }
+  if (edit_settings(bank_, cmd, out, now, kProtectionParams, count_of(kProtectionParams), false)) return;
   out.print(GCODE_TEXT("echo:"));
   write_protection(out);
 }
@@ -249,11 +273,29 @@ void ControllerCommands::write_upload(gcode::Output& out, const gcode::FlashText
     out.print(prefix);
     return out.print(GCODE_TEXT("M311 ; no state-feedback constants loaded\n"));
   }
-  control::write_state_feedback_mcode(bank_.state_feedback_constants(), [&](const char* line) {
-    out.print(prefix);
-    out.write(line);
-    out.end_line();
-  });
+  // Straight to the output (control/state_feedback_gcode.h's line buffer and integer formatter
+  // cost ~300 B of AVR flash beside Output's own).
+  struct Sink {
+    gcode::Output& out;
+    const gcode::FlashText* prefix;
+    void begin_line(uint8_t first) {
+      out.print(prefix);
+      out.print(GCODE_TEXT("M311 I"));
+      out.write_uint(first);
+    }
+    void field(char letter, int32_t value) {
+      out.write_char(' ');
+      out.write_char(letter);
+      out.write_int(value);
+    }
+    void end_line() { out.end_line(); }
+    void commit_line() {
+      out.print(prefix);
+      out.print(GCODE_TEXT("M311 W1\n"));
+    }
+  };
+  Sink sink{out, prefix};
+  control::write_state_feedback_lines(bank_.state_feedback_constants(), sink);
 }
 
 }  // namespace firmware

@@ -41,6 +41,41 @@ TEST(StateFeedbackGcode, FieldIndicesFollowTheDesignToolsListing) {
   EXPECT_EQ(control::sf_field(scratch, control::kSfFieldCount).address, nullptr);
 }
 
+// The chain of per-member steps sf_field() used before its run table: the same address and
+// type for every index 0..255 (beyond the last field: none).
+control::SfField chained_field(StateFeedbackConstants& k, uint8_t index) {
+  control::SfField field{nullptr, control::SfFieldType::kU8};
+  auto run = [&](auto* first, uint8_t count, control::SfFieldType type) {
+    if (field.address != nullptr) return;
+    if (index < count) field = control::SfField{first + index, type};
+    else index = static_cast<uint8_t>(index - count);
+  };
+  using T = control::SfFieldType;
+  const uint8_t s = control::kSfMaxStates;
+  run(&k.n, 1, T::kU8); run(&k.output_mask, 1, T::kU8); run(&k.delay, 1, T::kU8);
+  run(&k.decimation, 1, T::kU8); run(&k.input_shift, 1, T::kU8); run(&k.ambient_q8, 1, T::kI32);
+  run(k.phi_diag, s, T::kI16); run(k.phi_off, s, T::kI16); run(k.phi_col, s, T::kU8);
+  run(k.gamma_a, s, T::kI16); run(k.gamma_b, s, T::kI16); run(k.phi_shift, s, T::kU8);
+  run(k.obs_gain, s + 1, T::kI16); run(k.obs_shift, s + 1, T::kU8); run(k.fb_gain, s, T::kI16);
+  run(&k.ff_gain, 1, T::kI16); run(&k.bias_gain, 1, T::kI16); run(&k.ctrl_shift, 1, T::kU8);
+  run(k.fir, control::kSfMaxDelay, T::kI16); run(&k.fir_shift, 1, T::kU8); run(&k.fan_gain, 1, T::kI16);
+  run(&k.fan_shift, 1, T::kU8); run(k.ss_share, s, T::kI16); run(&k.ss_share_shift, 1, T::kU8);
+  run(&k.inv_gain, 1, T::kI16); run(&k.inv_gain_shift, 1, T::kU8);
+  return field;
+}
+
+TEST(StateFeedbackGcode, RunTableFindsWhatThePerMemberChainFound) {
+  StateFeedbackConstants k;
+  for (int i = 0; i < 256; ++i) {
+    const control::SfField table = control::sf_field(k, static_cast<uint8_t>(i));
+    const control::SfField chain = chained_field(k, static_cast<uint8_t>(i));
+    EXPECT_EQ(table.address, chain.address) << i;
+    if (chain.address != nullptr) {
+      EXPECT_EQ(table.type, chain.type) << i;
+    }
+  }
+}
+
 TEST(StateFeedbackGcode, EveryFieldIsReachedOnce) {
   // The fields' byte ranges are disjoint and add up to the members' total size (174 bytes:
   // the struct without padding), so together with the listing above no member is missed.

@@ -297,14 +297,18 @@ class Autotune {
   int32_t cyc_a_q8_ = 0;         // ... its half amplitude
   uint32_t cyc_duty_done_ = 0;   // ... its Σ duty
   uint8_t cycle_index_ = 0;     // completed cycles in the current (fan or no-fan) part
-  bool fan_part_ = false;
-  bool fan_pending_ = false;     // the fan is on: the next relay is the fan part
-  uint8_t nofan_measure_ = 0, fan_skip_ = 0, fan_measure_ = 0;
+  bool fan_pending_ = false;     // the fan is on: the approach ends in the fan hold
+  uint8_t nofan_measure_ = 0;
+  uint8_t hold_bins_ = 0;       // bins into the fan hold + 1 (0: not holding)
+  uint8_t hold_len_ = 0;        // its length in bins
+  int32_t hold_y0_q8_ = 0;      // the bin mean it started at (its drift)
   bool started_cycle_ = false;
   int32_t sum_dev_[2] = {};     // Σ (y − target) per tick over measured cycles, [0] no fan, [1] fan
   uint32_t sum_duty_[2] = {};   // Σ duty q16 >> 4 per tick
   uint32_t sum_ticks_[2] = {};
   uint8_t stored_count_ = 0;
+  int32_t first_dev_ = 0, last_dev_ = 0;  // Σ (y − target) of the first / last measured cycle
+  uint16_t first_ticks_ = 0, last_ticks_ = 0;
   uint32_t ku_sum_q8_ = 0, tu_sum_q8_ = 0;
   uint8_t ku_count_ = 0;
 

@@ -263,10 +263,11 @@ TEST_F(AutotunePlants, IdentifyTwoNodeGainAndFanLoss) {
 
 TEST_F(AutotunePlants, DurationTargets) {
   const std::vector<Plant> ps = plants();
-  // Met: light-fast, fopdt-30-1. two-node-30W misses by ~4 s (321.8 s vs 318.1 s) since the
-  // bin logic is spread over the steps of a bin. The rest are listed in the report with their
-  // figures (dead-time-dominated ones cannot: a relay period is ≥ 4 × 20 s there).
-  const std::set<std::string> met = {"light-fast", "fopdt-30-1"};
+  // Met since the fan part is a hold and C3–5 measure 2 relay cycles (C3, σ 0.1 °C): hotend40w
+  // 212 s (≤ 240), two-node-30W 247 s, two-node-80W 202 s, light-fast 88 s, fopdt-30-1 140 s,
+  // fopdt-60-3 159 s. The rest are in docs/autotune.md with their figures (dead-time-dominated
+  // ones: the approach alone takes ~6 × its τ ≈ L̂, a relay period is ≥ 4 L̂).
+  const std::set<std::string> met = {"hotend40w", "two-node-30W", "two-node-80W", "light-fast", "fopdt-30-1", "fopdt-60-3"};
   for (size_t i = 0; i < ps.size(); ++i) {
     const Plant& p = ps[i];
     const TuneRun& r = (*runs_)[i];
@@ -359,10 +360,10 @@ TEST(Autotune, DeadHeaterIsNoHeating) {
 }
 
 TEST(Autotune, TimesOutAtTheLimitGrownByTheMeasuredResponseTime) {
-  // 60 s configured: the probe (≈ 20 s) measures L̂ ≈ 3.7 s, and (3 + 2 fan cycles + 4) × 6 L̂
-  // ≈ 200 s after it is longer (the ceiling 4 × 60 s is not reached): the tune, which needs
-  // ≈ 280 s, times out there.
-  const TuneRun r = run(plants()[0], 3, true, 0.1, false, 1.0, -1, false, 60);
+  // 60 s configured: the probe (≈ 20 s) measures L̂ ≈ 3.7 s, and (8 + 2 for the fan hold + 4) ×
+  // 6 L̂ ≈ 310 s after it is longer, capped at 4 × 60 s: the C8 tune, which needs ≈ 275 s, times
+  // out there (C3's ≈ 212 s now fits in the grown limit).
+  const TuneRun r = run(plants()[0], 8, true, 0.1, false, 1.0, -1, false, 60);
   EXPECT_EQ(r.state, AutotuneState::kFailed);
   EXPECT_EQ(r.failure, AutotuneFailure::kTimeout);
   EXPECT_GT(r.duration_s, 200);

@@ -280,7 +280,8 @@ class Autotune {
   uint8_t fill_on_ = 0;         // the last fill_on_ bins were at full power
   uint16_t fill_a_q16_ = 0;     // 1/T the history runs with
   uint8_t fill_head_ = 0;       // ring_head_ when the approach began
-  int32_t pending_q8_ = 0;      // a value carried from one stage to the next
+  int32_t pending_q8_ = 0;      // a value carried from one stage to the next (the fan hold: its
+                                // first bin mean, for its drift)
   // The probe's model cannot be trusted (cut-to-peak time beyond the history, or no clean peak):
   // the approach and the relay then also keep the reading's own
   // trend over guard_bins_ below the target (+ a margin in the relay): slower, never above S + 5.
@@ -301,7 +302,6 @@ class Autotune {
   uint8_t nofan_measure_ = 0;
   uint8_t hold_bins_ = 0;       // bins into the fan hold + 1 (0: not holding)
   uint8_t hold_len_ = 0;        // its length in bins
-  int32_t hold_y0_q8_ = 0;      // the bin mean it started at (its drift)
   bool started_cycle_ = false;
   int32_t sum_dev_[2] = {};     // Σ (y − target) per tick over measured cycles, [0] no fan, [1] fan
   uint32_t sum_duty_[2] = {};   // Σ duty q16 >> 4 per tick

@@ -791,15 +791,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       }
       if (hold_bins_ != 0) {
         if (++hold_bins_ <= hold_len_) return 0;
-        // A hold still drifting (the slow mode the relay left) reads the wrong gain: K·ū = rise +
-        // T·ẏ, so add T·ẏ (ẏ over the hold, T = the learnt 1/T) to every tick's deviation.
-        // |Δy| clamped to 2^13 (32 °C), × 2^16 < 2^30; ÷ (len · 1/T) ≥ 1; |corr| ≤ 2^13 after the
-        // clamp, × ticks ≤ 2^11.
-        const int32_t dy = fixed::clamp(y_bin_q8_ - pending_q8_, int32_t{-8192}, int32_t{8192});
-        const uint32_t den = uint32_t{hold_len_} * (inv_t_q16_ > 0 ? inv_t_q16_ : 1u);
-        const int32_t corr = fixed::clamp(static_cast<int32_t>((static_cast<uint32_t>(abs32(dy)) << 16) / den),
-                                          int32_t{0}, int32_t{8192});
-        sum_dev_[1] += (dy < 0 ? -corr : corr) * static_cast<int32_t>(sum_ticks_[1]);
+        pending_q8_ = y_bin_q8_ - pending_q8_;  // the hold's drift (compute)
         fan_ = 0;
         duty_q16_ = 0;
         compute_step_ = 0;
@@ -816,7 +808,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         const uint16_t len = static_cast<uint16_t>(((cycles_ + 1u) >> 1) * (horizon_bins_ + 2u));
         hold_len_ = static_cast<uint8_t>(len > 255 ? 255 : len);
         hold_bins_ = 1;
-        pending_q8_ = y_bin_q8_;
+        pending_q8_ = y_bin_q8_;  // its first bin, for its drift
         return 0;
       }
       crossings_ = 0;
@@ -1011,6 +1003,7 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
       // approach controller ride it out and re-learn the loss, then relay again with the fan.
       fan_ = 255;
       fan_pending_ = true;
+      inv_t_nofan_q16_ = inv_t_q16_;  // the relay's drift correction (compute)
       // Expect a typical fan's extra loss at once (+40 % of the loss rate, hotend40w's 43 %), so
       // the approach raises the duty with the fan instead of after a dip that can last minutes
       // on slow hotends; the relay then measures the real figure. inv_t·26214 < 2^31.
@@ -1038,11 +1031,10 @@ bool Autotune::compute_chunk() {
   const uint8_t stored = stored_count_ < kMaxStoredCycles ? stored_count_ : kMaxStoredCycles;
   constexpr uint8_t k0 = 7;  // compute steps of the no-fan gain
   uint8_t s = compute_step_++;
-  if (s < k0 || (s >= k0 + kCycleSteps * stored && s < k0 + 3 + kCycleSteps * stored)) {  // fan: subs 4–6
-    // Gain = mean rise / mean duty over the measured cycles: [0] without, [1] with the fan (its
-    // hold's drift is already in sum_dev_[1]).
+  if (s < k0 || (s >= k0 + kCycleSteps * stored && s < k0 + 4 + kCycleSteps * stored)) {  // fan: subs 3–6
+    // Gain = mean rise / mean duty over the measured cycles [0] or the fan hold [1].
     const uint8_t part = s < k0 ? 0 : 1;
-    const uint8_t sub = s < k0 ? s : static_cast<uint8_t>(s - k0 - kCycleSteps * stored + 4);
+    const uint8_t sub = s < k0 ? s : static_cast<uint8_t>(s - k0 - kCycleSteps * stored + 3);
     const int32_t n = static_cast<int32_t>(sum_ticks_[part]) > 0 ? static_cast<int32_t>(sum_ticks_[part]) : 1;
     // A relay whose mean still drifts (the slow mode of a lag-type hotend: 2 cycles of 5 s on
     // light-fast's 88 s read K 7.6 % high) reads the wrong gain: K·ū = rise + T·ẏ over the
@@ -1058,10 +1050,21 @@ bool Autotune::compute_chunk() {
       const int32_t dm = fixed::clamp(c_a_lo_ - c_a_hi_, int32_t{-8192}, int32_t{8192});
       c_a_lo_ = dt > 0 ? fixed::clamp(dm * 65536 / dt, int32_t{-(1L << 26)}, int32_t{1L << 26}) : 0;
     } else if (sub == 3) {
-      // T·ẏ = ẏ per tick · 8 ticks per bin / (1/T per bin): (2^26 · 8) / Q16 → q8 (≤ 2^29).
-      c_a_hi_ = inv_t_q16_ > 0 ? fixed::clamp(c_a_lo_ * 8 / static_cast<int32_t>(inv_t_q16_), int32_t{-8192}, int32_t{8192}) : 0;
+      // T·ẏ. Relay: ẏ per tick · 8 ticks per bin / (1/T per bin, without the fan): (2^26 · 8) / Q16
+      // → q8 (≤ 2^29). Fan hold: Δy · 2^16 / (its bins · 1/T with the fan) (|Δy| clamped to
+      // 2^13, × 2^16 < 2^30; the divisor ≥ 1).
+      int32_t c = 0;
+      if (part == 0) {
+        c = inv_t_nofan_q16_ > 0 ? c_a_lo_ * 8 / static_cast<int32_t>(inv_t_nofan_q16_) : 0;
+      } else if (hold_len_ > 0) {  // (no hold: F0)
+        const int32_t dy = fixed::clamp(pending_q8_, int32_t{-8192}, int32_t{8192});
+        const uint32_t den = uint32_t{hold_len_} * (inv_t_q16_ > 0 ? inv_t_q16_ : 1u);
+        c = static_cast<int32_t>((static_cast<uint32_t>(abs32(dy)) << 16) / den);
+        if (dy < 0) c = -c;
+      }
+      c_a_hi_ = fixed::clamp(c, int32_t{-8192}, int32_t{8192});
     } else if (sub == 4) {
-      c_mean_q8_ = rise_target + sum_dev_[part] / n + (part == 0 ? c_a_hi_ : 0);
+      c_mean_q8_ = rise_target + sum_dev_[part] / n + c_a_hi_;
     } else if (sub == 5) {
       c_duty_ = static_cast<int32_t>(sum_duty_[part] / static_cast<uint32_t>(n));  // duty_q16 >> 4
     } else {
@@ -1148,7 +1151,7 @@ bool Autotune::compute_chunk() {
       }
     }
   }
-  s = static_cast<uint8_t>(s - k0 - 3 - kCycleSteps * stored);  // the fan gain's 3 steps
+  s = static_cast<uint8_t>(s - k0 - 4 - kCycleSteps * stored);  // the fan gain's 4 steps
   HotendModel& m = result_.model;
   const int32_t count = tl_count_ > 0 ? tl_count_ : 1;
   switch (s) {

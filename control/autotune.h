@@ -302,6 +302,7 @@ class Autotune {
   uint8_t nofan_measure_ = 0;
   uint8_t hold_bins_ = 0;       // bins into the fan hold + 1 (0: not holding)
   uint8_t hold_len_ = 0;        // its length in bins
+  uint16_t inv_t_nofan_q16_ = 0;  // 1/T before the fan came on
   bool started_cycle_ = false;
   int32_t sum_dev_[2] = {};     // Σ (y − target) per tick over measured cycles, [0] no fan, [1] fan
   uint32_t sum_duty_[2] = {};   // Σ duty q16 >> 4 per tick

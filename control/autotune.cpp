@@ -1024,48 +1024,39 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
 }
 
 // The final arithmetic, one piece per step (at most one 32-bit division or two logarithms):
-// 0–6 K (0–3 the relay's drift); 13 per stored cycle (T, L from the relay); 3 for K with the fan;
+// 0–5 K (0–2 the drift); 13 per stored cycle (T, L from the relay); 4 for K with the fan (hold);
 // 10 for F, the averages, the probe's C and the result.
 bool Autotune::compute_chunk() {
   const int32_t rise_target = target_q8_ - ambient_q8_;
   const uint8_t stored = stored_count_ < kMaxStoredCycles ? stored_count_ : kMaxStoredCycles;
-  constexpr uint8_t k0 = 7;  // compute steps of the no-fan gain
+  constexpr uint8_t k0 = 6;  // compute steps of the no-fan gain
   uint8_t s = compute_step_++;
-  if (s < k0 || (s >= k0 + kCycleSteps * stored && s < k0 + 4 + kCycleSteps * stored)) {  // fan: subs 3–6
+  if (s < k0 || (s >= k0 + kCycleSteps * stored && s < k0 + 4 + kCycleSteps * stored)) {  // fan: subs 2–5
     // Gain = mean rise / mean duty over the measured cycles [0] or the fan hold [1].
     const uint8_t part = s < k0 ? 0 : 1;
-    const uint8_t sub = s < k0 ? s : static_cast<uint8_t>(s - k0 - kCycleSteps * stored + 3);
+    const uint8_t sub = s < k0 ? s : static_cast<uint8_t>(s - k0 - kCycleSteps * stored + 2);
     const int32_t n = static_cast<int32_t>(sum_ticks_[part]) > 0 ? static_cast<int32_t>(sum_ticks_[part]) : 1;
-    // A relay whose mean still drifts (the slow mode of a lag-type hotend: 2 cycles of 5 s on
-    // light-fast's 88 s read K 7.6 % high) reads the wrong gain: K·ū = rise + T·ẏ over the
-    // window, ẏ from the first and last measured cycles' means (centre to centre), T the learnt
-    // 1/T. Sums: |dev| ≤ 2^13 per tick × ≤ 2^16 ticks.
+    // A window whose mean still drifts (the slow mode of a lag-type hotend: 2 relay cycles of 5 s
+    // on light-fast's 88 s read K 7.6 % high) reads the wrong gain: K·ū = rise + T·ẏ over it.
+    // ẏ: relay, the first and last measured cycles' means (centre to centre); fan hold, its first
+    // and last bins. T: the learnt 1/T (the relay's from before the fan came on).
+    // Cycle sums: |dev| ≤ 2^13 per tick × ≤ 2^16 ticks.
     if (sub == 0) {
       c_a_hi_ = first_ticks_ > 0 ? first_dev_ / first_ticks_ : 0;
     } else if (sub == 1) {
-      c_a_lo_ = last_ticks_ > 0 ? last_dev_ / last_ticks_ : 0;
+      c_a_lo_ = (last_ticks_ > 0 ? last_dev_ / last_ticks_ : 0) - c_a_hi_;
+      c_a_hi_ = (static_cast<int32_t>(sum_ticks_[0]) - div2n<1>(first_ticks_ + last_ticks_)) >> 3;  // span, bins
     } else if (sub == 2) {
-      // ẏ per tick × 2^16 (|Δmean| clamped to 2^13: × 2^16 < 2^30), clamped to 2^26.
-      const int32_t dt = static_cast<int32_t>(sum_ticks_[0]) - div2n<1>(first_ticks_ + last_ticks_);
-      const int32_t dm = fixed::clamp(c_a_lo_ - c_a_hi_, int32_t{-8192}, int32_t{8192});
-      c_a_lo_ = dt > 0 ? fixed::clamp(dm * 65536 / dt, int32_t{-(1L << 26)}, int32_t{1L << 26}) : 0;
+      // T·ẏ = Δ · 2^16 / (span · 1/T): |Δ| clamped to 2^13, × 2^16 < 2^30; span < 2^13 bins ×
+      // 1/T ≤ 2^14 < 2^27 (≥ 1, else no correction).
+      const int32_t d = part == 0 ? c_a_lo_ : pending_q8_;
+      const uint32_t den = static_cast<uint32_t>(part == 0 ? c_a_hi_ : hold_len_) * (part == 0 ? inv_t_nofan_q16_ : inv_t_q16_);
+      const uint32_t c = static_cast<int32_t>(den) > 0 ? (static_cast<uint32_t>(abs32(d) > 8192 ? 8192 : abs32(d)) << 16) / den : 0;
+      c_a_hi_ = static_cast<int32_t>(c > 8192 ? 8192 : c);
+      if (d < 0) c_a_hi_ = -c_a_hi_;
     } else if (sub == 3) {
-      // T·ẏ. Relay: ẏ per tick · 8 ticks per bin / (1/T per bin, without the fan): (2^26 · 8) / Q16
-      // → q8 (≤ 2^29). Fan hold: Δy · 2^16 / (its bins · 1/T with the fan) (|Δy| clamped to
-      // 2^13, × 2^16 < 2^30; the divisor ≥ 1).
-      int32_t c = 0;
-      if (part == 0) {
-        c = inv_t_nofan_q16_ > 0 ? c_a_lo_ * 8 / static_cast<int32_t>(inv_t_nofan_q16_) : 0;
-      } else if (hold_len_ > 0) {  // (no hold: F0)
-        const int32_t dy = fixed::clamp(pending_q8_, int32_t{-8192}, int32_t{8192});
-        const uint32_t den = uint32_t{hold_len_} * (inv_t_q16_ > 0 ? inv_t_q16_ : 1u);
-        c = static_cast<int32_t>((static_cast<uint32_t>(abs32(dy)) << 16) / den);
-        if (dy < 0) c = -c;
-      }
-      c_a_hi_ = fixed::clamp(c, int32_t{-8192}, int32_t{8192});
-    } else if (sub == 4) {
       c_mean_q8_ = rise_target + sum_dev_[part] / n + c_a_hi_;
-    } else if (sub == 5) {
+    } else if (sub == 4) {
       c_duty_ = static_cast<int32_t>(sum_duty_[part] / static_cast<uint32_t>(n));  // duty_q16 >> 4
     } else {
       // mean rise < 2^17 (≤ 300 °C above ambient), × 2^12 < 2^29.

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -275,6 +276,30 @@ TEST_F(AutotunePlants, DurationTargets) {
     if (in(met, p.name)) {
       EXPECT_LE(r.duration_s, budget) << p.name;
     }
+  }
+}
+
+// M303's default effort (C5, F1): the tune's duration per plant against issue 7's target (≤ 4 min
+// on hotend40w-class plants, ≤ the full-power heat-up + 3 min elsewhere, 2 × that on seed000).
+// Where it is met, the target is asserted; elsewhere a ceiling ~10 % above the figure measured
+// when the fan part became a hold (relay-only tune before, s: seed002 918, seed004 904, seed003
+// 379, fopdt-300-10 746, fopdt-120-25 1378, heavy-slow 2281, two-node-delay5 975, seed000-4 5196,
+// seed000-5 4407), so a slower tune fails here.
+TEST(AutotuneDuration, DefaultEffortC5PerPlant) {
+  const std::map<std::string, double> ceiling = {
+      {"seed002", 740},      {"seed004", 730},       {"seed003", 360},       {"fopdt-300-10", 620},
+      {"fopdt-120-25", 1085}, {"heavy-slow", 2090},  {"two-node-delay5", 890}, {"seed000-4", 4760},
+      {"seed000-5", 3730}};
+  std::printf("%-16s %7s %7s %6s\n", "plant", "tune s", "target", "max-S");
+  for (const Plant& p : plants()) {
+    const TuneRun r = run(p, 5, true, 0.1, false, 1.0, -1, false, 1800);
+    double target = p.budget_s > 0 ? p.budget_s : r.heatup_s + 180;
+    if (p.name.compare(0, 7, "seed000") == 0) target = 2 * p.budget_s;  // 2 × the bound (budget_s ≈ bound here)
+    std::printf("%-16s %7.1f %7.1f %6.2f\n", p.name.c_str(), r.duration_s, target, r.max_c - p.target_c);
+    EXPECT_EQ(r.state, AutotuneState::kFinished) << p.name;
+    EXPECT_LE(r.max_c, p.target_c + 5.0) << p.name;
+    const auto c = ceiling.find(p.name);
+    EXPECT_LE(r.duration_s, c == ceiling.end() ? target : c->second) << p.name;
   }
 }
 

@@ -1,8 +1,8 @@
 // On-board identification for M303 (issue 7): a state machine stepped once per control period
 // that heats the hotend, approaches the target without overshoot, runs a biased relay
-// oscillation around it (without and with the part fan) and identifies the M307 model
-// (static gain, time constant, dead time, fan loss) plus Marlin's Ku/Tu. Integer-only,
-// portable (AVR and host), no heap; per-step cost estimates in autotune.cpp.
+// oscillation around it, holds it with the part fan on, and identifies the M307 model (static
+// gain, time constant, dead time, fan loss) plus Marlin's Ku/Tu (from the relay cycles).
+// Integer-only, portable (AVR and host), no heap; per-step cost estimates in autotune.cpp.
 //
 // Phases:
 //   cool      heater off while too hot (or until a hot hotend visibly decays: its baseline)
@@ -21,11 +21,14 @@
 //   relay     biased relay (levels bias ± d, hysteresis ±0.2 °C on a 4-reading mean, wider on a
 //             noisy sensor; with a trusted model no half shorter than L̂/2) around the
 //             target; bias = last cycle's mean duty, d for ±1.5 °C, a drifting relay re-biased
-//             from its drift; then (approach again with the part fan at 100 %) the same with fan
+//             from its drift; one settling cycle, then max(2, C − 3) measured
+//   fan hold  part fan at 100 %: the approach law again, then held for ⌈C/2⌉ × (L̂ + 2) bins:
+//             its mean duty gives the gain with the fan (no relay cycles: each ≥ 4 L̂)
 //   compute   K from mean temperature / mean duty; T and L from the relay's asymmetric-FOPDT
 //             formulas (lag-type hotends: T from the heat-up slope, L from the relay amplitude;
 //             a cold cut probe: T = p/ln(K/(K − peak)) from its pulse where it agrees within 10 %);
-//             F from the fan cycles' mean duty; one small piece per step (≈ 110 steps)
+//             F from the fan hold's mean duty; K and F corrected for a window's drift
+//             (K·ū = rise + T·ẏ); one small piece per step (≈ 110 steps)
 // The slow logic runs in pieces of at most one 32-bit division each, one piece per step, so that
 // every step() stays cheap on AVR (see the cost notes at the top of autotune.cpp).
 #pragma once

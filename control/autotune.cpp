@@ -166,8 +166,9 @@ bool Autotune::start(int32_t target_q8, uint8_t cycles, bool measure_fan, int32_
   measure_fan_ = measure_fan;
   ambient_given_ = ambient_q8 != kMeasureAmbient;
   ambient_q8_ = ambient_given_ ? ambient_q8 : kDefaultAmbientQ8;
-  // Measured cycles: the first relay cycle settles the bias and is not used; then cycles − 1.
-  // The fan part is a hold, not a relay (hold_len_, set once L̂ is known).
+  // C is the measurement effort: the first relay cycle settles the bias and is not used, then
+  // max(2, C − 3) measured ones (with the drift correction two gave A within 1 % on the FOPDT
+  // plants; C5's former four cost 2 × 4 L̂); the fan part is a hold of ⌈C/2⌉ × (L̂ + 2) bins.
   nofan_measure_ = static_cast<uint8_t>(cycles > 5 ? cycles - 3 : 2);
   start_q8_ = INT32_MIN;
   enter(Phase::kBaseline);
@@ -1000,13 +1001,13 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
     stage_ = 0;  // the relay's bin stages (if any) do not belong to the next phase
     if (measure_fan_) {
       // The fan's extra loss is a large step disturbance (tens of °C on a fast hotend): let the
-      // approach controller ride it out and re-learn the loss, then relay again with the fan.
+      // approach controller ride it out and re-learn the loss, then hold with the fan.
       fan_ = 255;
       fan_pending_ = true;
       inv_t_nofan_q16_ = inv_t_q16_;  // the relay's drift correction (compute)
       // Expect a typical fan's extra loss at once (+40 % of the loss rate, hotend40w's 43 %), so
       // the approach raises the duty with the fan instead of after a dip that can last minutes
-      // on slow hotends; the relay then measures the real figure. inv_t·26214 < 2^31.
+      // on slow hotends; the hold then measures the real figure. inv_t·26214 < 2^31.
       inv_t_q16_ = static_cast<uint16_t>(fixed::sat_u16(static_cast<int32_t>(
           inv_t_q16_ + ((uint32_t{inv_t_q16_} * 26214u) >> 16))));
       settled_bins_ = 0;

@@ -697,6 +697,9 @@ void Autotune::model_anchor() {
   const int32_t anchor = div2n<2>(y_bin_q8_ - ambient_q8_ - model_ago(horizon_bins_));
   offset_q8_ += anchor;
   model_q8_ += anchor;
+  // An untrusted model's relay and fan hold: heater off while the trend would carry the reading
+  // past target + 2 °C.
+  guard_off_ = untrusted_ && trend_q8() > target_q8_ + kGuardMarginQ8;
 }
 
 uint8_t Autotune::approach_stage(uint8_t stage) {
@@ -771,9 +774,9 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       }
       const int32_t u = steady_q16_ + ((ex * gain_q8_) >> 8);  // |ex·gain| ≤ 51,200 · 40,000 < 2^31
       duty_q16_ = clamp_duty(u);
-      // The fan hold on an untrusted model, as its relay did: heater off while the trend would
-      // carry the reading past target + 2 °C (seed000 at σ 0.3 °C: S + 5.3 without).
-      if (hold_bins_ != 0 && untrusted_ && trend_q8() > target_q8_ + kGuardMarginQ8) duty_q16_ = 0;
+      // The fan hold on an untrusted model, as its relay (guard_off_: seed000 at σ 0.3 °C reached
+      // S + 5.3 without).
+      if (hold_bins_ != 0 && guard_off_) duty_q16_ = 0;
       duty_avg_q16_ += div2n<2>(static_cast<int32_t>(duty_q16_) - duty_avg_q16_);
       // (An untrusted model's P law may stall short of the target: the relay takes over nearer.)
       settled_bins_ = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? 4 * kSettleBandQ8 : kSettleBandQ8)
@@ -839,7 +842,6 @@ uint8_t Autotune::relay_stage(uint8_t stage) {
   }
   if (stage == 2) {
     model_anchor();
-    guard_off_ = untrusted_ && trend_q8() > target_q8_ + kGuardMarginQ8;
     return 3;
   }
   if (stage == 3) {

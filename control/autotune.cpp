@@ -166,12 +166,10 @@ bool Autotune::start(int32_t target_q8, uint8_t cycles, bool measure_fan, int32_
   measure_fan_ = measure_fan;
   ambient_given_ = ambient_q8 != kMeasureAmbient;
   ambient_q8_ = ambient_given_ ? ambient_q8 : kDefaultAmbientQ8;
-  // Measured cycles: the first no-fan cycle settles the bias and is not used; then cycles − 1
-  // no-fan cycles; with the fan, one settling cycle and ⌈cycles/5⌉ measured ones (F is one mean
-  // duty: C5's second fan cycle added ≈ 5 % to the tune for no accuracy on the FOPDT plants).
-  nofan_measure_ = static_cast<uint8_t>(cycles - 1);
-  fan_skip_ = 1;
-  fan_measure_ = static_cast<uint8_t>((cycles + 4) / 5);
+  // C is the measurement effort: the first relay cycle settles the bias and is not used, then
+  // max(2, C − 3) measured ones (with the drift correction two gave A within 1 % on the FOPDT
+  // plants; C5's former four cost 2 × 4 L̂); the fan part is a hold of ⌈C/2⌉ × (L̂ + 2) bins.
+  nofan_measure_ = static_cast<uint8_t>(cycles > 5 ? cycles - 3 : 2);
   start_q8_ = INT32_MIN;
   enter(Phase::kBaseline);
   return true;
@@ -251,6 +249,14 @@ AutotuneOutput Autotune::step(int32_t y) {
       break;
     case Phase::kRelay:
       ended = relay_tick(yf, y);
+      break;
+    case Phase::kApproach:
+      if (hold_bins_ != 0) {
+        // The fan hold: its mean rise over its mean duty is the gain with the fan (compute).
+        sum_dev_[1] += y - target_q8_;  // |y − target| < 2^14 per tick, ≤ 2^16 ticks
+        sum_duty_[1] += duty_q16_ >> 4;
+        ++sum_ticks_[1];
+      }
       break;
     case Phase::kCompute:
       if (compute_chunk()) {
@@ -594,7 +600,7 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
 // L̂ < 2^16 ticks × 6 × ≤ 31 < 2^24; 4 × limit < 2^32 for limits < 2^30 ticks.
 void Autotune::extend_timeout() {
   const uint32_t l_ticks = horizon_ticks_ > 0xFFFF ? 0xFFFFu : static_cast<uint32_t>(horizon_ticks_);
-  const uint32_t cycles = uint32_t{cycles_} + (measure_fan_ ? fan_skip_ + fan_measure_ : 0u) + 4u;
+  const uint32_t cycles = uint32_t{cycles_} + (measure_fan_ ? 2u : 0u) + 4u;
   const uint32_t span = tick_ + cycles * 6u * l_ticks;
   const uint32_t ceiling = timeout_ticks_ < (uint32_t{1} << 30) ? 4u * timeout_ticks_ : timeout_ticks_;
   if (span > timeout_ticks_) timeout_ticks_ = span < ceiling ? span : ceiling;
@@ -691,6 +697,9 @@ void Autotune::model_anchor() {
   const int32_t anchor = div2n<2>(y_bin_q8_ - ambient_q8_ - model_ago(horizon_bins_));
   offset_q8_ += anchor;
   model_q8_ += anchor;
+  // An untrusted model's relay and fan hold: heater off while the trend would carry the reading
+  // past target + 2 °C.
+  guard_off_ = untrusted_ && trend_q8() > target_q8_ + kGuardMarginQ8;
 }
 
 uint8_t Autotune::approach_stage(uint8_t stage) {
@@ -765,6 +774,9 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       }
       const int32_t u = steady_q16_ + ((ex * gain_q8_) >> 8);  // |ex·gain| ≤ 51,200 · 40,000 < 2^31
       duty_q16_ = clamp_duty(u);
+      // The fan hold on an untrusted model, as its relay (guard_off_: seed000 at σ 0.3 °C reached
+      // S + 5.3 without).
+      if (hold_bins_ != 0 && guard_off_) duty_q16_ = 0;
       duty_avg_q16_ += div2n<2>(static_cast<int32_t>(duty_q16_) - duty_avg_q16_);
       // (An untrusted model's P law may stall short of the target: the relay takes over nearer.)
       settled_bins_ = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? 4 * kSettleBandQ8 : kSettleBandQ8)
@@ -781,9 +793,28 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         if (side_ != 0) ++crossings_;
         side_ = side;
       }
+      if (hold_bins_ != 0) {
+        if (++hold_bins_ <= hold_len_) return 0;
+        pending_q8_ = y_bin_q8_ - pending_q8_;  // the hold's drift (compute)
+        fan_ = 0;
+        duty_q16_ = 0;
+        compute_step_ = 0;
+        enter(Phase::kCompute);
+        return 0;
+      }
       return settled_bins_ >= horizon_bins_ + 2 || near_bins_ >= 3 * (horizon_bins_ + 2) || crossings_ >= 2 ? 7 : 0;
     }
     default: {
+      if (fan_pending_) {
+        // Settled with the fan on: hold there (the same law, its loss still learnt) and measure
+        // the mean duty, instead of relay cycles (each ≥ 4 L̂ on a dead-time hotend): (C + 1)/2
+        // × (L̂ + 2 bins), ≤ 255 bins (≤ 21 × 72).
+        const uint16_t len = static_cast<uint16_t>(((cycles_ + 1u) >> 1) * (horizon_bins_ + 2u));
+        hold_len_ = static_cast<uint8_t>(len > 255 ? 255 : len);
+        hold_bins_ = 1;
+        pending_q8_ = y_bin_q8_;  // its first bin, for its drift
+        return 0;
+      }
       crossings_ = 0;
       side_ = 0;
       // Relay around the smoothed duty; d for ±1.5 °C by the probe's model (in-flight rise per
@@ -794,7 +825,6 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       half_ticks_ = 0;
       started_cycle_ = false;
       cycle_index_ = 0;
-      fan_part_ = fan_pending_;
       enter(Phase::kRelay);
       return 0;
     }
@@ -812,7 +842,6 @@ uint8_t Autotune::relay_stage(uint8_t stage) {
   }
   if (stage == 2) {
     model_anchor();
-    guard_off_ = untrusted_ && trend_q8() > target_q8_ + kGuardMarginQ8;
     return 3;
   }
   if (stage == 3) {
@@ -911,12 +940,18 @@ void Autotune::end_cycle(uint16_t t_lo) {
   cycle_.bias = static_cast<uint8_t>((uint32_t{bias_q16_} * 255 + 32768) >> 16);
   cycle_.d = static_cast<uint8_t>((uint32_t{d_q16_} * 255 + 32768) >> 16);
   ++cycle_index_;
-  const uint8_t part = fan_part_ ? 1 : 0;
-  if (cycle_index_ > (fan_part_ ? fan_skip_ : 1)) {
-    sum_dev_[part] += cyc_sum_dev_;
-    sum_duty_[part] += cyc_sum_duty_ >> 4;
-    sum_ticks_[part] += period_ticks_;
-    if (!fan_part_) {
+  if (cycle_index_ > 1) {
+    // The first and last measured cycles' sums: the relay's drift between them (compute).
+    if (first_ticks_ == 0) {
+      first_dev_ = cyc_sum_dev_;
+      first_ticks_ = period_ticks_;
+    }
+    last_dev_ = cyc_sum_dev_;
+    last_ticks_ = period_ticks_;
+    sum_dev_[0] += cyc_sum_dev_;
+    sum_duty_[0] += cyc_sum_duty_ >> 4;
+    sum_ticks_[0] += period_ticks_;
+    {
       StoredCycle& c = stored_[stored_count_ % kMaxStoredCycles];
       ++stored_count_;
       c.u_hi_q16 = static_cast<uint16_t>(bias_q16_ + d_q16_);
@@ -935,7 +970,7 @@ void Autotune::end_cycle(uint16_t t_lo) {
 // 1: Ku; 2: Tu and the event; 3: the bias; 4: d and what comes next. ≤ one division each.
 uint8_t Autotune::cycle_stage(uint8_t stage) {
   const uint32_t a = static_cast<uint32_t>(cyc_a_q8_);
-  const uint8_t skip = fan_part_ ? fan_skip_ : 1;
+  constexpr uint8_t skip = 1;
   if (stage == 1) {
     // Ku = 4·d/(π·a) on the 0..255 scale = d_q16·324.68/a_q8 (× 256 for q8); d_q16 ≤ 65535 and
     // 32,468 < 2^15: product < 2^31; 100·a < 2^23.
@@ -947,11 +982,9 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
     event_ = AutotuneEvent::kCycle;
     if (cycle_index_ > skip) {
       event_ = AutotuneEvent::kUltimate;  // cycle_ is valid too
-      if (!fan_part_) {
-        ku_sum_q8_ += static_cast<uint32_t>(ultimate_.ku_q8);
-        tu_sum_q8_ += static_cast<uint32_t>(ultimate_.tu_q8);
-        ++ku_count_;
-      }
+      ku_sum_q8_ += static_cast<uint32_t>(ultimate_.ku_q8);
+      tu_sum_q8_ += static_cast<uint32_t>(ultimate_.tu_q8);
+      ++ku_count_;
     }
     return 3;
   }
@@ -966,16 +999,17 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
   if (d > 2u * d_q16_) d = 2u * d_q16_;
   if (d < d_q16_ / 2u) d = d_q16_ / 2u;
   d_q16_ = clamp_step(d);
-  if (cycle_index_ >= skip + (fan_part_ ? fan_measure_ : nofan_measure_)) {
+  if (cycle_index_ >= skip + nofan_measure_) {
     stage_ = 0;  // the relay's bin stages (if any) do not belong to the next phase
-    if (!fan_part_ && measure_fan_) {
+    if (measure_fan_) {
       // The fan's extra loss is a large step disturbance (tens of °C on a fast hotend): let the
-      // approach controller ride it out and re-learn the loss, then relay again with the fan.
+      // approach controller ride it out and re-learn the loss, then hold with the fan.
       fan_ = 255;
       fan_pending_ = true;
+      inv_t_nofan_q16_ = inv_t_q16_;  // the relay's drift correction (compute)
       // Expect a typical fan's extra loss at once (+40 % of the loss rate, hotend40w's 43 %), so
       // the approach raises the duty with the fan instead of after a dip that can last minutes
-      // on slow hotends; the relay then measures the real figure. inv_t·26214 < 2^31.
+      // on slow hotends; the hold then measures the real figure. inv_t·26214 < 2^31.
       inv_t_q16_ = static_cast<uint16_t>(fixed::sat_u16(static_cast<int32_t>(
           inv_t_q16_ + ((uint32_t{inv_t_q16_} * 26214u) >> 16))));
       settled_bins_ = 0;
@@ -993,20 +1027,39 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
 }
 
 // The final arithmetic, one piece per step (at most one 32-bit division or two logarithms):
-// 0–2 K; 13 per stored cycle (T, L from the relay); 3 for K with the fan; 10 for F, the averages,
-// the probe's C and the result.
+// 0–5 K (0–2 the drift); 13 per stored cycle (T, L from the relay); 4 for K with the fan (hold);
+// 10 for F, the averages, the probe's C and the result.
 bool Autotune::compute_chunk() {
   const int32_t rise_target = target_q8_ - ambient_q8_;
   const uint8_t stored = stored_count_ < kMaxStoredCycles ? stored_count_ : kMaxStoredCycles;
+  constexpr uint8_t k0 = 6;  // compute steps of the no-fan gain
   uint8_t s = compute_step_++;
-  if (s < 3 || (s >= 3 + kCycleSteps * stored && s < 6 + kCycleSteps * stored)) {
-    // Gain = mean rise / mean duty over the measured cycles: [0] without, [1] with the fan.
-    const uint8_t part = s < 3 ? 0 : 1;
-    const uint8_t sub = s < 3 ? s : static_cast<uint8_t>(s - 3 - kCycleSteps * stored);
+  if (s < k0 || (s >= k0 + kCycleSteps * stored && s < k0 + 4 + kCycleSteps * stored)) {  // fan: subs 2–5
+    // Gain = mean rise / mean duty over the measured cycles [0] or the fan hold [1].
+    const uint8_t part = s < k0 ? 0 : 1;
+    const uint8_t sub = s < k0 ? s : static_cast<uint8_t>(s - k0 - kCycleSteps * stored + 2);
     const int32_t n = static_cast<int32_t>(sum_ticks_[part]) > 0 ? static_cast<int32_t>(sum_ticks_[part]) : 1;
+    // A window whose mean still drifts (the slow mode of a lag-type hotend: 2 relay cycles of 5 s
+    // on light-fast's 88 s read K 7.6 % high) reads the wrong gain: K·ū = rise + T·ẏ over it.
+    // ẏ: relay, the first and last measured cycles' means (centre to centre); fan hold, its first
+    // and last bins. T: the learnt 1/T (the relay's from before the fan came on).
+    // Cycle sums: |dev| ≤ 2^13 per tick × ≤ 2^16 ticks.
     if (sub == 0) {
-      c_mean_q8_ = rise_target + sum_dev_[part] / n;
+      c_a_hi_ = first_ticks_ > 0 ? first_dev_ / first_ticks_ : 0;
     } else if (sub == 1) {
+      c_a_lo_ = (last_ticks_ > 0 ? last_dev_ / last_ticks_ : 0) - c_a_hi_;
+      c_a_hi_ = (static_cast<int32_t>(sum_ticks_[0]) - div2n<1>(first_ticks_ + last_ticks_)) >> 3;  // span, bins
+    } else if (sub == 2) {
+      // T·ẏ = Δ · 2^16 / (span · 1/T): |Δ| clamped to 2^13, × 2^16 < 2^30; span < 2^13 bins ×
+      // 1/T ≤ 2^14 < 2^27 (≥ 1, else no correction).
+      const int32_t d = part == 0 ? c_a_lo_ : pending_q8_;
+      const uint32_t den = static_cast<uint32_t>(part == 0 ? c_a_hi_ : hold_len_) * (part == 0 ? inv_t_nofan_q16_ : inv_t_q16_);
+      const uint32_t c = static_cast<int32_t>(den) > 0 ? (static_cast<uint32_t>(abs32(d) > 8192 ? 8192 : abs32(d)) << 16) / den : 0;
+      c_a_hi_ = static_cast<int32_t>(c > 8192 ? 8192 : c);
+      if (d < 0) c_a_hi_ = -c_a_hi_;
+    } else if (sub == 3) {
+      c_mean_q8_ = rise_target + sum_dev_[part] / n + c_a_hi_;
+    } else if (sub == 4) {
       c_duty_ = static_cast<int32_t>(sum_duty_[part] / static_cast<uint32_t>(n));  // duty_q16 >> 4
     } else {
       // mean rise < 2^17 (≤ 300 °C above ambient), × 2^12 < 2^29.
@@ -1019,8 +1072,8 @@ bool Autotune::compute_chunk() {
     }
     return false;
   }
-  if (s < 3 + kCycleSteps * stored) {
-    s = static_cast<uint8_t>(s - 3);
+  if (s < k0 + kCycleSteps * stored) {
+    s = static_cast<uint8_t>(s - k0);
     const StoredCycle& c = stored_[s / kCycleSteps];
     const uint8_t sub = static_cast<uint8_t>(s % kCycleSteps);
     // Rises above ambient, °C × 256.
@@ -1092,7 +1145,7 @@ bool Autotune::compute_chunk() {
       }
     }
   }
-  s = static_cast<uint8_t>(s - 6 - kCycleSteps * stored);
+  s = static_cast<uint8_t>(s - k0 - 4 - kCycleSteps * stored);  // the fan gain's 4 steps
   HotendModel& m = result_.model;
   const int32_t count = tl_count_ > 0 ? tl_count_ : 1;
   switch (s) {

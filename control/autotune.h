@@ -1,8 +1,8 @@
 // On-board identification for M303 (issue 7): a state machine stepped once per control period
 // that heats the hotend, approaches the target without overshoot, runs a biased relay
-// oscillation around it (without and with the part fan) and identifies the M307 model
-// (static gain, time constant, dead time, fan loss) plus Marlin's Ku/Tu. Integer-only,
-// portable (AVR and host), no heap; per-step cost estimates in autotune.cpp.
+// oscillation around it, holds it with the part fan on, and identifies the M307 model (static
+// gain, time constant, dead time, fan loss) plus Marlin's Ku/Tu (from the relay cycles).
+// Integer-only, portable (AVR and host), no heap; per-step cost estimates in autotune.cpp.
 //
 // Phases:
 //   cool      heater off while too hot (or until a hot hotend visibly decays: its baseline)
@@ -21,11 +21,14 @@
 //   relay     biased relay (levels bias ± d, hysteresis ±0.2 °C on a 4-reading mean, wider on a
 //             noisy sensor; with a trusted model no half shorter than L̂/2) around the
 //             target; bias = last cycle's mean duty, d for ±1.5 °C, a drifting relay re-biased
-//             from its drift; then (approach again with the part fan at 100 %) the same with fan
+//             from its drift; one settling cycle, then max(2, C − 3) measured
+//   fan hold  part fan at 100 %: the approach law again, then held for ⌈C/2⌉ × (L̂ + 2) bins:
+//             its mean duty gives the gain with the fan (no relay cycles: each ≥ 4 L̂)
 //   compute   K from mean temperature / mean duty; T and L from the relay's asymmetric-FOPDT
 //             formulas (lag-type hotends: T from the heat-up slope, L from the relay amplitude;
 //             a cold cut probe: T = p/ln(K/(K − peak)) from its pulse where it agrees within 10 %);
-//             F from the fan cycles' mean duty; one small piece per step (≈ 110 steps)
+//             F from the fan hold's mean duty; K and F corrected for a window's drift
+//             (K·ū = rise + T·ẏ); one small piece per step (≈ 110 steps)
 // The slow logic runs in pieces of at most one 32-bit division each, one piece per step, so that
 // every step() stays cheap on AVR (see the cost notes at the top of autotune.cpp).
 #pragma once
@@ -280,7 +283,8 @@ class Autotune {
   uint8_t fill_on_ = 0;         // the last fill_on_ bins were at full power
   uint16_t fill_a_q16_ = 0;     // 1/T the history runs with
   uint8_t fill_head_ = 0;       // ring_head_ when the approach began
-  int32_t pending_q8_ = 0;      // a value carried from one stage to the next
+  int32_t pending_q8_ = 0;      // a value carried from one stage to the next (the fan hold: its
+                                // first bin mean, for its drift)
   // The probe's model cannot be trusted (cut-to-peak time beyond the history, or no clean peak):
   // the approach and the relay then also keep the reading's own
   // trend over guard_bins_ below the target (+ a margin in the relay): slower, never above S + 5.
@@ -297,14 +301,18 @@ class Autotune {
   int32_t cyc_a_q8_ = 0;         // ... its half amplitude
   uint32_t cyc_duty_done_ = 0;   // ... its Σ duty
   uint8_t cycle_index_ = 0;     // completed cycles in the current (fan or no-fan) part
-  bool fan_part_ = false;
-  bool fan_pending_ = false;     // the fan is on: the next relay is the fan part
-  uint8_t nofan_measure_ = 0, fan_skip_ = 0, fan_measure_ = 0;
+  bool fan_pending_ = false;     // the fan is on: the approach ends in the fan hold
+  uint8_t nofan_measure_ = 0;
+  uint8_t hold_bins_ = 0;       // bins into the fan hold + 1 (0: not holding)
+  uint8_t hold_len_ = 0;        // its length in bins
+  uint16_t inv_t_nofan_q16_ = 0;  // 1/T before the fan came on
   bool started_cycle_ = false;
   int32_t sum_dev_[2] = {};     // Σ (y − target) per tick over measured cycles, [0] no fan, [1] fan
   uint32_t sum_duty_[2] = {};   // Σ duty q16 >> 4 per tick
   uint32_t sum_ticks_[2] = {};
   uint8_t stored_count_ = 0;
+  int32_t first_dev_ = 0, last_dev_ = 0;  // Σ (y − target) of the first / last measured cycle
+  uint16_t first_ticks_ = 0, last_ticks_ = 0;
   uint32_t ku_sum_q8_ = 0, tu_sum_q8_ = 0;
   uint8_t ku_count_ = 0;
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -263,10 +264,11 @@ TEST_F(AutotunePlants, IdentifyTwoNodeGainAndFanLoss) {
 
 TEST_F(AutotunePlants, DurationTargets) {
   const std::vector<Plant> ps = plants();
-  // Met: light-fast, fopdt-30-1. two-node-30W misses by ~4 s (321.8 s vs 318.1 s) since the
-  // bin logic is spread over the steps of a bin. The rest are listed in the report with their
-  // figures (dead-time-dominated ones cannot: a relay period is ≥ 4 × 20 s there).
-  const std::set<std::string> met = {"light-fast", "fopdt-30-1"};
+  // Met since the fan part is a hold and C3–5 measure 2 relay cycles (C3, σ 0.1 °C): hotend40w
+  // 212 s (≤ 240), two-node-30W 247 s, two-node-80W 202 s, light-fast 88 s, fopdt-30-1 140 s,
+  // fopdt-60-3 159 s. The rest are in docs/autotune.md with their figures (dead-time-dominated
+  // ones: the approach alone takes ~6 × its τ ≈ L̂, a relay period is ≥ 4 L̂).
+  const std::set<std::string> met = {"hotend40w", "two-node-30W", "two-node-80W", "light-fast", "fopdt-30-1", "fopdt-60-3"};
   for (size_t i = 0; i < ps.size(); ++i) {
     const Plant& p = ps[i];
     const TuneRun& r = (*runs_)[i];
@@ -274,6 +276,30 @@ TEST_F(AutotunePlants, DurationTargets) {
     if (in(met, p.name)) {
       EXPECT_LE(r.duration_s, budget) << p.name;
     }
+  }
+}
+
+// M303's default effort (C5, F1): the tune's duration per plant against issue 7's target (≤ 4 min
+// on hotend40w-class plants, ≤ the full-power heat-up + 3 min elsewhere, 2 × that on seed000).
+// Where it is met, the target is asserted; elsewhere a ceiling ~10 % above the figure measured
+// when the fan part became a hold (relay-only tune before, s: seed002 918, seed004 904, seed003
+// 379, fopdt-300-10 746, fopdt-120-25 1378, heavy-slow 2281, two-node-delay5 975, seed000-4 5196,
+// seed000-5 4407), so a slower tune fails here.
+TEST(AutotuneDuration, DefaultEffortC5PerPlant) {
+  const std::map<std::string, double> ceiling = {
+      {"seed002", 740},      {"seed004", 730},       {"seed003", 360},       {"fopdt-300-10", 620},
+      {"fopdt-120-25", 1085}, {"heavy-slow", 2090},  {"two-node-delay5", 890}, {"seed000-4", 4760},
+      {"seed000-5", 3730}};
+  std::printf("%-16s %7s %7s %6s\n", "plant", "tune s", "target", "max-S");
+  for (const Plant& p : plants()) {
+    const TuneRun r = run(p, 5, true, 0.1, false, 1.0, -1, false, 1800);
+    const double target = p.budget_s > 0 ? p.budget_s : r.heatup_s + 180;
+    // (seed000: budget_s is already 2 × hotend-sim's physical bound, 730.7 / 664.0 s)
+    std::printf("%-16s %7.1f %7.1f %6.2f\n", p.name.c_str(), r.duration_s, target, r.max_c - p.target_c);
+    EXPECT_EQ(r.state, AutotuneState::kFinished) << p.name;
+    EXPECT_LE(r.max_c, p.target_c + 5.0) << p.name;
+    const auto c = ceiling.find(p.name);
+    EXPECT_LE(r.duration_s, c == ceiling.end() ? target : c->second) << p.name;
   }
 }
 
@@ -359,10 +385,10 @@ TEST(Autotune, DeadHeaterIsNoHeating) {
 }
 
 TEST(Autotune, TimesOutAtTheLimitGrownByTheMeasuredResponseTime) {
-  // 60 s configured: the probe (≈ 20 s) measures L̂ ≈ 3.7 s, and (3 + 2 fan cycles + 4) × 6 L̂
-  // ≈ 200 s after it is longer (the ceiling 4 × 60 s is not reached): the tune, which needs
-  // ≈ 280 s, times out there.
-  const TuneRun r = run(plants()[0], 3, true, 0.1, false, 1.0, -1, false, 60);
+  // 60 s configured: the probe (≈ 20 s) measures L̂ ≈ 3.7 s, and (8 + 2 for the fan hold + 4) ×
+  // 6 L̂ ≈ 310 s after it is longer, capped at 4 × 60 s: the C8 tune, which needs ≈ 275 s, times
+  // out there (C3's ≈ 212 s now fits in the grown limit).
+  const TuneRun r = run(plants()[0], 8, true, 0.1, false, 1.0, -1, false, 60);
   EXPECT_EQ(r.state, AutotuneState::kFailed);
   EXPECT_EQ(r.failure, AutotuneFailure::kTimeout);
   EXPECT_GT(r.duration_s, 200);

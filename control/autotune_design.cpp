@@ -4,6 +4,12 @@
 
 namespace control {
 
+bool tu_floors_dead_time(int32_t dead_time_q8, int32_t time_constant_q8, int32_t tu_q8) {
+  const int32_t quarter_q8 = tu_q8 / 4;
+  // Dead time ≤ 600 s (Q8 < 2^18): 8·D and 5·D fit; Tu/4 < 2^29 for any int32 Tu.
+  return quarter_q8 > dead_time_q8 && 8 * dead_time_q8 < time_constant_q8 && 4 * quarter_q8 <= 5 * dead_time_q8;
+}
+
 // noinline: LTO inlined it into more than one caller (124 B of AVR flash as a call).
 __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint16_t period_ms, TunedDesign* out) {
   out->model = tune.model;
@@ -12,8 +18,7 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   const uint32_t k_q8 = static_cast<uint32_t>(tune.model.rise_q8);
   const uint32_t t_q8 = static_cast<uint32_t>(tune.model.time_constant_q8);
   int32_t l_q8 = tune.model.dead_time_q8;
-  const int32_t quarter_tu_q8 = tune.ultimate.tu_q8 / 4;
-  if (l_q8 < quarter_tu_q8) l_q8 = quarter_tu_q8;
+  if (tu_floors_dead_time(l_q8, tune.model.time_constant_q8, tune.ultimate.tu_q8)) l_q8 = tune.ultimate.tu_q8 / 4;
   // A lag-type hotend (the tune saw a thermistor lag): its FOPDT stands for two lags, and the
   // designs' dead-time predictor then overshoots unless L has a margin growing with lag/C:
   // L·(1 + 2.5·lag/C) (the board's state feedback on seed003, host: D 9.4 → 7.5 °C, 11.5 → 0.2,

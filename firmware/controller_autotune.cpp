@@ -182,7 +182,7 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   // (control/state_feedback_autodesign.h: ~400 k cycles, run right after a control step, so it
   // ends well before the next one is due).
   control::StateFeedbackConstants sf;
-  const bool sf_ok = control::design_state_feedback_fopdt(d.model, kControlPeriodMs, &sf);
+  const bool sf_ok = control::design_state_feedback_fopdt(d.model, kControlPeriodMs, &sf, d.lag_paced);
   if (sf_ok) {
     out.print(GCODE_TEXT("echo:Autotune state feedback designed: law every "));
     out.write_uint(sf.decimation);
@@ -196,8 +196,10 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   // feedback unless the dead time is at least half the time constant; there the PID following
   // the model's heat-up overshot less (seed002: 0.02 vs 1.69 °C).
   const bool use_sf = sf_ok && 2 * d.model.dead_time_q8 < d.model.time_constant_q8;
-  const gcode::FlashText* choice = use_sf ? GCODE_TEXT("M310 S1 (state feedback), ")
-                                          : GCODE_TEXT("M310 S0 F1 (PID following the model's heat-up), ");
+  // "paced": designed no faster than D (hotend-sim's check of the board's M311 reads it).
+  const gcode::FlashText* choice = !use_sf      ? GCODE_TEXT("M310 S0 F1 (PID following the model's heat-up), ")
+                                   : d.lag_paced ? GCODE_TEXT("M310 S1 (state feedback, paced by D), ")
+                                                 : GCODE_TEXT("M310 S1 (state feedback), ");
   if (!apply_) {
     out.print(GCODE_TEXT("echo:Autotune not applied (U0); U1 would set the M301 above, "));
     out.print(choice);

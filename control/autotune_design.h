@@ -30,17 +30,10 @@ struct TunedDesign {
 // past anything a 128 ms loop with a lagging thermistor can use.
 constexpr int32_t kMinDesignDeadTimeQ8 = 128;  // 0.5 s
 
-// Whether the relay's Tu/4 replaces the identified dead time D (all Q8). An ideal relay on a
-// FOPDT has Tu/4 ≤ D (Tu between 2D and 4D), so a longer quarter period can mean lags the
-// identification folded into too short a D (hotend40w-delay5: D 8.5 s, Tu/4 9.97 s; the board's
-// state feedback settles in 1.16 × bound with 9.97, 1.46 with 8.5). But the relay's own
-// switching (a 4-reading mean, the hysteresis) lengthens Tu too, by 3–45 % on the exact FOPDT
-// plants, and the state feedback's predictor is as sensitive to a D too long (simavr, RAMPS,
-// state feedback on the tuned model): fopdt-fast D 1.02, Tu/4 1.46: 1.19 °C overshoot and 1.44 ×
-// bound with 1.46, 0.04 °C and 1.07 with 1.02; fopdt-delay25 D 24.9, Tu/4 25.8: 1.49 × against
-// 1.05. So Tu/4 is taken only where D/C < 1/8 (on longer dead times the relay's peak ratio
-// identifies D well, and an ideal relay's Tu/4 is already ≤ 0.93 D at D/C 0.2) and
-// Tu/4 ≤ 1.25 D (beyond, the switching delay on a dead time of a few periods, fopdt-fast 1.43).
+// Whether the relay's Tu/4 replaces the identified dead time D (all Q8): only where
+// D < Tu/4 ≤ 1.25·D and D/C < 1/8. A longer quarter period can mean a lag folded into too short
+// a D (hotend40w-delay5), but the relay's own switching lengthens Tu by 3–45 % on FOPDT plants,
+// and a D too long slows or overshoots the state feedback (measured: docs/autotune.md, "Design").
 bool tu_floors_dead_time(int32_t dead_time_q8, int32_t time_constant_q8, int32_t tu_q8);
 
 // False if the identified model is outside what M307 accepts or the gains fall outside

@@ -32,6 +32,11 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
     l_q8 += margin_q8;
     out->lag_paced = 20 * tune.sensor_lag_q8 <= tune.model.time_constant_q8;
   }
+  // An unsure model (the probe's response outlasted the model history: seed000's higher-order
+  // hotends) of no lag-type hotend: its D is short of the response's, and a D too short
+  // overshoots. +3/8 (state feedback after U1, simavr): seed000-5 D 73.9 → 101.6: 2.98 → 0.24 °C;
+  // seed000-4 79 → 107: 18.4 → 10.6 °C. heavy-slow (a lag) was slower with it: not there.
+  if (tune.unsure && tune.sensor_lag_q8 == 0) l_q8 += 3 * l_q8 / 8;
   if (l_q8 < kMinDesignDeadTimeQ8) l_q8 = kMinDesignDeadTimeQ8;
   if (l_q8 > kModelMaxDeadTimeQ8) return false;
   out->model.dead_time_q8 = l_q8;  // the feedforward's heat-up must respect the same delay

@@ -84,6 +84,28 @@ TEST(AutotuneDesign, RelayQuarterPeriodLiftsTheDeadTimeOnlyWhereItMeansALag) {
   EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 24.93, 0.01);
 }
 
+// An unsure model (seed000's: the probe's response outlasted the history) without a lag: D gets
+// 3/8 more; with a lag (heavy-slow) the lag's own margin only.
+TEST(AutotuneDesign, UnsureModelsWithoutALagGetADeadTimeMargin) {
+  control::AutotuneResult r = tune_of(456, 1552.5, 73.9, 0);  // seed000-5 after the Tu/4 floor
+  r.unsure = true;
+  control::TunedDesign d;
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 73.9 * 1.375, 0.01);
+  EXPECT_FALSE(d.lag_paced);
+  r = tune_of(441.6, 369.6, 25.0, 0);  // heavy-slow: lag 25 s > C/20
+  r.unsure = true;
+  r.sensor_lag_q8 = 25 * 256;
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 25.0 * (1 + 2.5 * 25 / 369.6), 0.02);
+  EXPECT_FALSE(d.lag_paced);
+  r = tune_of(1214.8, 267.1, 4.184, 0);  // hotend80w: lag 3.59 s ≤ C/20, margin at least 1/8
+  r.sensor_lag_q8 = static_cast<int32_t>(3.59 * 256);
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 4.184 * 1.125, 0.01);
+  EXPECT_TRUE(d.lag_paced);
+}
+
 TEST(AutotuneDesign, RefusesModelsOutsideM307sRange) {
   control::TunedDesign d;
   EXPECT_FALSE(control::design_from_tune(tune_of(5, 100, 2, 10), 128, &d));      // gain below 10 °C

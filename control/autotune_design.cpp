@@ -4,6 +4,12 @@
 
 namespace control {
 
+bool tu_floors_dead_time(int32_t dead_time_q8, int32_t time_constant_q8, int32_t tu_q8) {
+  const int32_t quarter_q8 = tu_q8 / 4;
+  // Dead time ≤ 600 s (Q8 < 2^18): 8·D and 5·D fit; Tu/4 < 2^29 for any int32 Tu.
+  return quarter_q8 > dead_time_q8 && 8 * dead_time_q8 < time_constant_q8 && 4 * quarter_q8 <= 5 * dead_time_q8;
+}
+
 // noinline: LTO inlined it into more than one caller (124 B of AVR flash as a call).
 __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint16_t period_ms, TunedDesign* out) {
   out->model = tune.model;
@@ -12,15 +18,25 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   const uint32_t k_q8 = static_cast<uint32_t>(tune.model.rise_q8);
   const uint32_t t_q8 = static_cast<uint32_t>(tune.model.time_constant_q8);
   int32_t l_q8 = tune.model.dead_time_q8;
-  const int32_t quarter_tu_q8 = tune.ultimate.tu_q8 / 4;
-  if (l_q8 < quarter_tu_q8) l_q8 = quarter_tu_q8;
+  if (tu_floors_dead_time(l_q8, tune.model.time_constant_q8, tune.ultimate.tu_q8)) l_q8 = tune.ultimate.tu_q8 / 4;
   // A lag-type hotend (the tune saw a thermistor lag): its FOPDT stands for two lags, and the
   // designs' dead-time predictor then overshoots unless L has a margin growing with lag/C:
   // L·(1 + 2.5·lag/C) (the board's state feedback on seed003, host: D 9.4 → 7.5 °C, 11.5 → 0.2,
-  // 12 → 0). L < 2^18, 5·lag < 2^20: mul_div_u32 keeps the 64-bit product's quotient.
+  // 12 → 0), at least L/8: on the two-node hotends the identified D is 8–9 % below their
+  // two-point fit (4.18–4.24 s against 4.59), and hotend80w undershot out of ±1 °C with it.
+  // L < 2^18, 5·lag < 2^20: mul_div_u32 keeps the 64-bit product's quotient.
+  out->lag_paced = false;
   if (tune.sensor_lag_q8 > 0 && l_q8 > 0) {
-    l_q8 += static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(l_q8), 5UL * static_cast<uint32_t>(tune.sensor_lag_q8), 2UL * t_q8));
+    int32_t margin_q8 = static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(l_q8), 5UL * static_cast<uint32_t>(tune.sensor_lag_q8), 2UL * t_q8));
+    if (margin_q8 < l_q8 / 8) margin_q8 = l_q8 / 8;
+    l_q8 += margin_q8;
+    out->lag_paced = 20 * tune.sensor_lag_q8 <= tune.model.time_constant_q8;
   }
+  // An unsure model (the probe's response outlasted the model history: seed000's higher-order
+  // hotends) of no lag-type hotend: its D is short of the response's, and a D too short
+  // overshoots. +3/8 (state feedback after U1, simavr): seed000-5 D 73.9 → 101.6: 2.98 → 0.24 °C;
+  // seed000-4 79 → 107: 18.4 → 10.6 °C. heavy-slow (a lag) was slower with it: not there.
+  if (tune.unsure && tune.sensor_lag_q8 == 0) l_q8 += 3 * l_q8 / 8;
   if (l_q8 < kMinDesignDeadTimeQ8) l_q8 = kMinDesignDeadTimeQ8;
   if (l_q8 > kModelMaxDeadTimeQ8) return false;
   out->model.dead_time_q8 = l_q8;  // the feedforward's heat-up must respect the same delay

@@ -146,8 +146,8 @@ class Calc {
 // clone's result came back false although every check passed (measured in simavr: the M303 tune
 // reported "outside what the board designs" for models the host designs; the HIL runs now
 // compare the board's M311 lines with this code compiled on the host).
-__attribute__((noinline, noclone)) bool design(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants& k,
-                                               Calc& c) {
+__attribute__((noinline, noclone)) bool design(const HotendModel& model, uint16_t period_ms, bool paced,
+                                               StateFeedbackConstants& k, Calc& c) {
   if (!hotend_model_valid(model) || period_ms == 0 || period_ms > 1000) return false;
 
   // Law period: the smallest N >= 2 with D <= kSfMaxDelay and N >= state_feedback_min_decimation(D)
@@ -200,6 +200,7 @@ __attribute__((noinline, noclone)) bool design(const HotendModel& model, uint16_
   c.ldexp(kC, kA, 4);
   c.div(kC, kC, kRise);
   c.min(kC, kC, kHalf);
+  if (paced && dead32 != 0) c.min(kC, kC, kRateTau);  // T_cl ≥ τ
   const bool slow = c.less(kA, kC);  // T > T_cl: sped up; else the open-loop pole stays
   c.copy(kO, kA);                    // observer (state): 4c, capped at h/τ (τ > 2h) or 1/2
   if (slow) {
@@ -331,10 +332,11 @@ __attribute__((noinline, noclone)) bool design(const HotendModel& model, uint16_
 
 }  // namespace
 
-bool design_state_feedback_fopdt(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants* out) {
+bool design_state_feedback_fopdt(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants* out,
+                                 bool dead_time_paced) {
   *out = StateFeedbackConstants();
   Calc calc;
-  if (design(model, period_ms, *out, calc)) return true;
+  if (design(model, period_ms, dead_time_paced, *out, calc)) return true;
   *out = StateFeedbackConstants();  // n = 0: fails state_feedback_constants_valid
   return false;
 }

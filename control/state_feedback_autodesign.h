@@ -22,6 +22,9 @@ namespace control {
 // state_feedback_constants_valid and StateFeedback::configure refuse), if the model fails
 // hotend_model_valid, period_ms is outside 1..1000, the dead time needs a law period beyond 250
 // calls, or a constant leaves its range.
-bool design_state_feedback_fopdt(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants* out);
+// dead_time_paced: the closed-loop time constant at least the dead time (T_cl ≥ τ, the host's
+// rise_fraction = t_rise/τ where that is below 16): for a D that stands for a thermistor lag.
+bool design_state_feedback_fopdt(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants* out,
+                                 bool dead_time_paced = false);
 
 }  // namespace control

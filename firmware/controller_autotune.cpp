@@ -201,14 +201,16 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   // (control/state_feedback_autodesign.h: ~400 k cycles, run right after a control step, so it
   // ends well before the next one is due).
   control::StateFeedbackConstants sf;
-  const bool sf_ok = control::design_state_feedback_fopdt(d.model, kControlPeriodMs, &sf);
+  const bool sf_ok = control::design_state_feedback_fopdt(d.model, kControlPeriodMs, &sf, d.lag_paced);
   write_sf_summary(out, sf_ok ? &sf : nullptr);
   // Which controller holds such a hotend best (measured over the plant bank, docs/bench): state
   // feedback unless the dead time is at least half the time constant; there the PID following
   // the model's heat-up overshot less (seed002: 0.02 vs 1.69 °C).
   const bool use_sf = sf_ok && 2 * d.model.dead_time_q8 < d.model.time_constant_q8;
-  const gcode::FlashText* choice = use_sf ? GCODE_TEXT("M310 S1 (state feedback), ")
-                                          : GCODE_TEXT("M310 S0 F1 (PID following the model's heat-up), ");
+  // "paced": designed no faster than D (hotend-sim's check of the board's M311 reads it).
+  const gcode::FlashText* choice = !use_sf      ? GCODE_TEXT("M310 S0 F1 (PID following the model's heat-up), ")
+                                   : d.lag_paced ? GCODE_TEXT("M310 S1 (state feedback, paced by D), ")
+                                                 : GCODE_TEXT("M310 S1 (state feedback), ");
   if (!apply_) {
     out.print(GCODE_TEXT("echo:Autotune not applied (U0); U1 would set the M301 above, "));
     out.print(choice);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include "design/lti_model.h"
@@ -226,6 +227,23 @@ TEST(AutotuneCommand, U1FinishesInMarlinsWordsAndAppliesModelGainsAndController)
   const control::PidGains applied = s.pid;
   rig.send(m301 + "\n");
   EXPECT_NEAR(rig.machine.bank.settings().pid.kp_q16, applied.kp_q16, 400);  // 2 decimals printed
+}
+
+// A hotend whose thermistor lags the block a little (80 W two-node: lag ≈ 4.5 s, C ≈ 250 s): the
+// tune folds the lag into D, and the state feedback is designed no faster than that D.
+TEST(AutotuneCommand, ASmallThermistorLagPacesTheStateFeedbackByTheDeadTime) {
+  design::TwoNodeParams p80;
+  p80.heater_w = 80;
+  TuneRig rig(design::two_node(p80));
+  rig.send("M303 E0 S210 C3 U1\n");
+  const std::string text = rig.run_tune();
+  EXPECT_TRUE(has(text, "echo:Autotune applied (U1): M310 S1 (state feedback, paced by D), M307 A")) << text;
+  const firmware::Settings& s = rig.machine.bank.settings();
+  control::StateFeedbackConstants paced, unpaced;
+  ASSERT_TRUE(control::design_state_feedback_fopdt(s.model, 128, &paced, true));
+  ASSERT_TRUE(control::design_state_feedback_fopdt(s.model, 128, &unpaced));
+  EXPECT_EQ(std::memcmp(&rig.machine.bank.state_feedback_constants(), &paced, sizeof paced), 0);
+  EXPECT_NE(std::memcmp(&paced, &unpaced, sizeof paced), 0);  // and pacing changed the design
 }
 
 TEST(AutotuneCommand, DeadTimeDominatedHotendsGetThePidFollowingTheModel) {

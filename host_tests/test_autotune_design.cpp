@@ -24,10 +24,18 @@ control::AutotuneResult tune_of(double k, double t, double l, double tu, double 
 
 double q8(double x) { return std::lround(x * 256) / 256.0; }  // what the board is given
 
+// The dead time the designs use: Tu/4 where it exceeds D by at most 25 % and D/C < 1/8
+// (control/autotune_design.h, tu_floors_dead_time), at least 0.5 s.
+double design_dead_time(double t, double l, double tu) {
+  const double quarter = std::floor(tu * 64) / 256;  // Tu/4 as the board has it: Q8, truncated
+  const bool floor = quarter > l && l < t / 8 && quarter <= 1.25 * l;
+  return std::fmax(floor ? quarter : l, control::kMinDesignDeadTimeQ8 / 256.0);
+}
+
 // The host's design of the same (Q8) model: the dead time the board's rule uses, then SIMC τc = 2L.
 tuning::MarlinGains host_gains(double k, double t, double l, double tu) {
   k = q8(k), t = q8(t), l = q8(l), tu = q8(tu);
-  const double l_eff = std::fmax(std::fmax(l, tu / 4.0), control::kMinDesignDeadTimeQ8 / 256.0);
+  const double l_eff = design_dead_time(t, l, tu);
   return tuning::simc(tuning::Fopdt{k, t, l_eff}, 2.0 * l_eff);
 }
 
@@ -37,7 +45,7 @@ TEST(AutotuneDesign, PidGainsMatchTheDoubleSimcRuleOverTheModelRange) {
   for (double k : {100.0, 300.0, 450.0, 600.0, 1200.0, 2000.0})
     for (double t : {10.0, 30.0, 88.0, 245.0, 600.0, 3000.0})
       for (double l : {0.0, 0.6, 1.0, 4.6, 20.7, 60.0})
-        for (double tu : {0.0, 8.0, 14.0, 65.0}) {
+        for (double tu : {0.0, 4.4, 8.0, 14.0, 20.0, 65.0}) {
           control::TunedDesign d;
           const bool ok = control::design_from_tune(tune_of(k, t, l, tu), 128, &d);
           const tuning::MarlinGains want = host_gains(k, t, l, tu);
@@ -56,11 +64,46 @@ TEST(AutotuneDesign, PidGainsMatchTheDoubleSimcRuleOverTheModelRange) {
           worst_kp = std::fmax(worst_kp, dkp);
           worst_ki = std::fmax(worst_ki, dki);
           EXPECT_EQ(d.pid.kd_q16, 0);
-          EXPECT_NEAR(d.model.dead_time_q8 / 256.0, std::fmax(std::fmax(l, tu / 4), 0.5), 1.0 / 256);
+          EXPECT_NEAR(d.model.dead_time_q8 / 256.0, design_dead_time(q8(t), q8(l), q8(tu)), 1.0 / 256);
         }
   std::printf("on-board SIMC vs double over %d models: worst |Δ| Kp %.2f, Ki %.2f units of 2^-16\n", count,
               worst_kp, worst_ki);
   EXPECT_GT(count, 500);
+}
+
+// The relay's Tu/4 lifts the dead time only where the bank showed it helps (simavr, the tuned
+// state feedback; figures in control/autotune_design.h): a lag the FOPDT identification folded
+// into too short a D, not the relay's own switching delay nor a well-identified long dead time.
+TEST(AutotuneDesign, RelayQuarterPeriodLiftsTheDeadTimeOnlyWhereItMeansALag) {
+  control::TunedDesign d;
+  ASSERT_TRUE(control::design_from_tune(tune_of(596, 267.8, 8.5, 4 * 9.97), 128, &d));  // hotend40w-delay5
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 9.97, 0.01);
+  ASSERT_TRUE(control::design_from_tune(tune_of(452, 29.1, 1.02, 4 * 1.46), 128, &d));  // fopdt-fast: +43 %
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 1.02, 0.01);
+  ASSERT_TRUE(control::design_from_tune(tune_of(450, 120.8, 24.93, 4 * 25.81), 128, &d));  // fopdt-delay25: D/C 0.21
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 24.93, 0.01);
+}
+
+// An unsure model (seed000's: the probe's response outlasted the history) without a lag: D gets
+// 3/8 more; with a lag (heavy-slow) the lag's own margin only.
+TEST(AutotuneDesign, UnsureModelsWithoutALagGetADeadTimeMargin) {
+  control::AutotuneResult r = tune_of(456, 1552.5, 73.9, 0);  // seed000-5 after the Tu/4 floor
+  r.unsure = true;
+  control::TunedDesign d;
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 73.9 * 1.375, 0.01);
+  EXPECT_FALSE(d.lag_paced);
+  r = tune_of(441.6, 369.6, 25.0, 0);  // heavy-slow: lag 25 s > C/20
+  r.unsure = true;
+  r.sensor_lag_q8 = 25 * 256;
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 25.0 * (1 + 2.5 * 25 / 369.6), 0.02);
+  EXPECT_FALSE(d.lag_paced);
+  r = tune_of(1214.8, 267.1, 4.184, 0);  // hotend80w: lag 3.59 s ≤ C/20, margin at least 1/8
+  r.sensor_lag_q8 = static_cast<int32_t>(3.59 * 256);
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 4.184 * 1.125, 0.01);
+  EXPECT_TRUE(d.lag_paced);
 }
 
 TEST(AutotuneDesign, RefusesModelsOutsideM307sRange) {

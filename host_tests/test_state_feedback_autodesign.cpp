@@ -140,6 +140,44 @@ TEST(StateFeedbackAutodesign, MatchesTheHostDesignFieldByField) {
   EXPECT_EQ(shift_mismatches, 0);
 }
 
+// dead_time_paced (a thermistor lag folded into D): the host's design with the closed loop no
+// faster than the dead time, rise_fraction = t_rise/τ where that is below 16 — field by field.
+TEST(StateFeedbackAutodesign, PacedByTheDeadTimeMatchesTheHostDesignWithThatSpeed) {
+  int paced = 0;
+  for (const Fopdt& p : grid()) {
+    // Where U1 paces (control/autotune_design.h): a lag ≤ C/20 folded into D, so D ≪ C. (With
+    // T_cl beyond T the board keeps the open-loop pole and the host would place a slower one.)
+    if (p.l >= p.t / 8) continue;
+    SCOPED_TRACE(::testing::Message() << "K " << p.k << " T " << p.t << " L " << p.l << " F " << p.f);
+    const HotendModel m = board_model(p);
+    StateFeedbackConstants board, host;
+    ASSERT_TRUE(control::design_state_feedback_fopdt(m, 128, &board, true));
+    const design::LtiModel model = host_model(m);
+    design::DesignOptions o;
+    const double t_rise = design::design_state_feedback(model).t_rise_s;
+    if (t_rise / (m.dead_time_q8 / 256.0) < o.rise_fraction) {
+      o.rise_fraction = t_rise / (m.dead_time_q8 / 256.0);
+      ++paced;
+    }
+    const design::Design d = design::design_state_feedback(model, o);
+    ASSERT_EQ(d.error, nullptr);
+    const char* qerr = design::quantize(d, model.fan_loss_per_k, &host);
+    ASSERT_EQ(qerr, nullptr) << qerr;
+    EXPECT_EQ(board.decimation, host.decimation);
+    EXPECT_EQ(board.delay, host.delay);
+    for (const Field& f : fields(board, host)) {
+      SCOPED_TRACE(f.name);
+      const double vb = value(f.mb, f.sb), vh = value(f.mh, f.sh);
+      if (f.sb != f.sh) {
+        EXPECT_LT(vh != 0 ? std::fabs(vb - vh) / std::fabs(vh) : std::fabs(vb), 1e-4);
+      } else {
+        EXPECT_LE(std::abs(f.mb - f.mh), 2);
+      }
+    }
+  }
+  EXPECT_GT(paced, 10);  // the rule did slow many of the grid's loops
+}
+
 // Heat-up 25 → 210 °C, then the part fan to 100 %: the true temperature every 128 ms. Sensor
 // noise σ 0.05 °C, the same sequence for both constant sets (same seed, same calls).
 std::vector<double> closed_loop(const design::LtiModel& plant, const StateFeedbackConstants& k, double fan_at_s,

@@ -204,9 +204,14 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   const bool sf_ok = control::design_state_feedback_fopdt(d.model, kControlPeriodMs, &sf, d.lag_paced);
   write_sf_summary(out, sf_ok ? &sf : nullptr);
   // Which controller holds such a hotend best (measured over the plant bank, docs/bench): state
-  // feedback unless the dead time is at least half the time constant; there the PID following
-  // the model's heat-up overshot less (seed002: 0.02 vs 1.69 °C).
-  const bool use_sf = sf_ok && 2 * d.model.dead_time_q8 < d.model.time_constant_q8;
+  // feedback unless the dead time is at least half the time constant, or at least an eighth of it
+  // with no thermistor lag seen; there the PID following the model's heat-up overshot less
+  // (seed002: 0.02 vs 1.69 °C; fopdt-delay25 with D 3 % short: 0.28 vs 2.63 °C, 0.99 vs 1.40 ×
+  // bound). With a lag (seed003, heavy-slow, hotend40w-delay5) it was the other way round.
+  const int32_t dead_q8 = d.model.dead_time_q8;  // ≤ 600 s × 256 (M307's bound): 8× fits int32
+  const bool dead_time_led = 2 * dead_q8 >= d.model.time_constant_q8 ||
+                             (r.sensor_lag_q8 == 0 && 8 * dead_q8 >= d.model.time_constant_q8);
+  const bool use_sf = sf_ok && !dead_time_led;
   // "paced": designed no faster than D (hotend-sim's check of the board's M311 reads it).
   const gcode::FlashText* choice = !use_sf      ? GCODE_TEXT("M310 S0 F1 (PID following the model's heat-up), ")
                                    : d.lag_paced ? GCODE_TEXT("M310 S1 (state feedback, paced by D), ")

@@ -794,7 +794,9 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         side_ = side;
       }
       if (hold_bins_ != 0) {
-        if (++hold_bins_ <= hold_len_) return 0;
+        // Compared before the increment: at hold_len_ 255 the 8-bit count wraps to 0, and an
+        // increment first would then restart the hold for ever (the tune timed out).
+        if (hold_bins_++ < hold_len_) return 0;
         pending_q8_ = y_bin_q8_ - pending_q8_;  // the hold's drift (compute)
         fan_ = 0;
         duty_q16_ = 0;
@@ -808,7 +810,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       if (fan_pending_) {
         // Settled with the fan on: hold there (the same law, its loss still learnt) and measure
         // the mean duty, instead of relay cycles (each ≥ 4 L̂ on a dead-time hotend): (C + 1)/2
-        // × (L̂ + 2 bins), ≤ 255 bins (≤ 21 × 72).
+        // × (L̂ + 2 bins), capped at 255 bins (C20 on a 70-bin horizon would be 720).
         const uint16_t len = static_cast<uint16_t>(((cycles_ + 1u) >> 1) * (horizon_bins_ + 2u));
         hold_len_ = static_cast<uint8_t>(len > 255 ? 255 : len);
         hold_bins_ = 1;

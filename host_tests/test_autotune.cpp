@@ -455,4 +455,15 @@ TEST(Autotune, ReportsMarlinCycleLinesAndKuTu) {
   EXPECT_NEAR(q8(at.result().ambient_q8), 25.0, 0.1);
 }
 
+// The fan hold is ⌈C/2⌉ × (L̂ + 2) bins, capped at 255: a long horizon with a high C reaches the
+// cap, and the hold must still end (its bin counter is 8 bits) and the tune finish.
+TEST(Autotune, FanHoldAtItsLongestStillEnds) {
+  for (const Plant& p : plants()) {
+    if (p.name != "fopdt-120-25") continue;
+    const TuneRun r = run(p, 20, true, 0.1, false, 1.0, -1, false, 3600);
+    EXPECT_EQ(r.state, AutotuneState::kFinished) << "failure " << static_cast<int>(r.failure);
+    EXPECT_NEAR(q8(r.result.model.fan_loss_pct_q8), fan_pct(p.model, p.k), 0.20 * fan_pct(p.model, p.k));
+  }
+}
+
 }  // namespace

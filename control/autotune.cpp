@@ -1003,12 +1003,12 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
   d_q16_ = clamp_step(d);
   if (cycle_index_ >= skip + nofan_measure_) {
     stage_ = 0;  // the relay's bin stages (if any) do not belong to the next phase
+    inv_t_nofan_q16_ = inv_t_q16_;  // the relay's drift correction (compute), with or without F
     if (measure_fan_) {
       // The fan's extra loss is a large step disturbance (tens of °C on a fast hotend): let the
       // approach controller ride it out and re-learn the loss, then hold with the fan.
       fan_ = 255;
       fan_pending_ = true;
-      inv_t_nofan_q16_ = inv_t_q16_;  // the relay's drift correction (compute)
       // Expect a typical fan's extra loss at once (+40 % of the loss rate, hotend40w's 43 %), so
       // the approach raises the duty with the fan instead of after a dip that can last minutes
       // on slow hotends; the hold then measures the real figure. inv_t·26214 < 2^31.

@@ -794,7 +794,9 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         side_ = side;
       }
       if (hold_bins_ != 0) {
-        if (++hold_bins_ <= hold_len_) return 0;
+        // Compared before the increment: at hold_len_ 255 the 8-bit count wraps to 0, and an
+        // increment first would then restart the hold for ever (the tune timed out).
+        if (hold_bins_++ < hold_len_) return 0;
         pending_q8_ = y_bin_q8_ - pending_q8_;  // the hold's drift (compute)
         fan_ = 0;
         duty_q16_ = 0;
@@ -808,7 +810,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       if (fan_pending_) {
         // Settled with the fan on: hold there (the same law, its loss still learnt) and measure
         // the mean duty, instead of relay cycles (each ≥ 4 L̂ on a dead-time hotend): (C + 1)/2
-        // × (L̂ + 2 bins), ≤ 255 bins (≤ 21 × 72).
+        // × (L̂ + 2 bins), capped at 255 bins (C20 on a 70-bin horizon would be 720).
         const uint16_t len = static_cast<uint16_t>(((cycles_ + 1u) >> 1) * (horizon_bins_ + 2u));
         hold_len_ = static_cast<uint8_t>(len > 255 ? 255 : len);
         hold_bins_ = 1;
@@ -1001,12 +1003,12 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
   d_q16_ = clamp_step(d);
   if (cycle_index_ >= skip + nofan_measure_) {
     stage_ = 0;  // the relay's bin stages (if any) do not belong to the next phase
+    inv_t_nofan_q16_ = inv_t_q16_;  // the relay's drift correction (compute), with or without F
     if (measure_fan_) {
       // The fan's extra loss is a large step disturbance (tens of °C on a fast hotend): let the
       // approach controller ride it out and re-learn the loss, then hold with the fan.
       fan_ = 255;
       fan_pending_ = true;
-      inv_t_nofan_q16_ = inv_t_q16_;  // the relay's drift correction (compute)
       // Expect a typical fan's extra loss at once (+40 % of the loss rate, hotend40w's 43 %), so
       // the approach raises the duty with the fan instead of after a dip that can last minutes
       // on slow hotends; the hold then measures the real figure. inv_t·26214 < 2^31.

@@ -289,7 +289,7 @@ class Autotune {
   // the approach and the relay then also keep the reading's own
   // trend over guard_bins_ below the target (+ a margin in the relay): slower, never above S + 5.
   bool untrusted_ = false;
-  bool guard_off_ = false;      // relay: heater off while the trend would carry the reading too high
+  bool guard_off_ = false;      // relay and fan hold: heater off while the trend would carry the reading too high
   uint8_t guard_bins_ = 0;
 
   // Relay.
@@ -300,7 +300,7 @@ class Autotune {
   uint16_t period_ticks_ = 0;    // the completed cycle's period (its end's stages)
   int32_t cyc_a_q8_ = 0;         // ... its half amplitude
   uint32_t cyc_duty_done_ = 0;   // ... its Σ duty
-  uint8_t cycle_index_ = 0;     // completed cycles in the current (fan or no-fan) part
+  uint8_t cycle_index_ = 0;     // completed relay cycles (the settling one included)
   bool fan_pending_ = false;     // the fan is on: the approach ends in the fan hold
   uint8_t nofan_measure_ = 0;
   uint8_t hold_bins_ = 0;       // bins into the fan hold + 1 (0: not holding)

@@ -455,4 +455,32 @@ TEST(Autotune, ReportsMarlinCycleLinesAndKuTu) {
   EXPECT_NEAR(q8(at.result().ambient_q8), 25.0, 0.1);
 }
 
+// The fan hold is ⌈C/2⌉ × (L̂ + 2) bins, capped at 255: a long horizon with a high C reaches the
+// cap, and the hold must still end (its bin counter is 8 bits) and the tune finish.
+TEST(Autotune, FanHoldAtItsLongestStillEnds) {
+  for (const Plant& p : plants()) {
+    if (p.name != "fopdt-120-25") continue;
+    const TuneRun r = run(p, 20, true, 0.1, false, 1.0, -1, false, 1800);  // the firmware's limit
+    EXPECT_EQ(r.state, AutotuneState::kFinished) << "failure " << static_cast<int>(r.failure);
+    EXPECT_NEAR(q8(r.result.model.fan_loss_pct_q8), fan_pct(p.model, p.k), 0.20 * fan_pct(p.model, p.k));
+  }
+}
+
+// Without the fan (F0) the relay's gain gets the same drift correction as with it (the relay runs
+// the same up to the fan): light-fast's two measured cycles of a slow mode read K 7.6 % high
+// without it, 4.5 % with it.
+TEST(Autotune, RelayDriftCorrectedWithoutTheFan) {
+  for (const Plant& p : plants()) {
+    if (p.name != "light-fast") continue;
+    const TuneRun with_fan = run(p, 3, true);
+    const TuneRun no_fan = run(p, 3, false);
+    ASSERT_EQ(with_fan.state, AutotuneState::kFinished);
+    ASSERT_EQ(no_fan.state, AutotuneState::kFinished);
+    std::printf("light-fast K: fan %.1f, F0 %.1f, true %.1f\n", q8(with_fan.result.model.rise_q8),
+                q8(no_fan.result.model.rise_q8), p.k);
+    EXPECT_EQ(no_fan.result.model.rise_q8, with_fan.result.model.rise_q8);
+    EXPECT_NEAR(q8(no_fan.result.model.rise_q8), p.k, 0.06 * p.k);
+  }
+}
+
 }  // namespace

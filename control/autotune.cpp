@@ -69,6 +69,14 @@ __attribute__((noinline)) int32_t abs32(int32_t x) { return x < 0 ? -x : x; }
 // power-of-two constant into a library division (≈ 650 cycles); this is a few shifts.
 template <uint8_t n> __attribute__((noinline)) int32_t div2n(int32_t x) { return x < 0 ? -(-x >> n) : x >> n; }
 
+// A member far into the object (offset > 63) costs avr-gcc pointer arithmetic on every access;
+// a pointer to its struct hidden from the optimiser is loaded once and then reached with LDD.
+template <typename T> T& near(T& x) {
+  T* p = &x;
+  asm("" : "+r"(p));
+  return *p;
+}
+
 __attribute__((noinline)) uint16_t clamp_duty(int32_t x) { return fixed::sat_u16(x); }
 
 __attribute__((noinline)) uint16_t clamp_step(uint32_t d) {
@@ -1030,6 +1038,7 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
 // 0–5 K (0–2 the drift); 13 per stored cycle (T, L from the relay); 4 for K with the fan (hold);
 // 10 for F, the averages, the probe's C and the result.
 bool Autotune::compute_chunk() {
+  Compute& v = near(c_);
   const int32_t rise_target = target_q8_ - ambient_q8_;
   const uint8_t stored = stored_count_ < kMaxStoredCycles ? stored_count_ : kMaxStoredCycles;
   constexpr uint8_t k0 = 6;  // compute steps of the no-fan gain
@@ -1045,30 +1054,30 @@ bool Autotune::compute_chunk() {
     // and last bins. T: the learnt 1/T (the relay's from before the fan came on).
     // Cycle sums: |dev| ≤ 2^13 per tick × ≤ 2^16 ticks.
     if (sub == 0) {
-      c_a_hi_ = first_ticks_ > 0 ? first_dev_ / first_ticks_ : 0;
+      v.a_hi = first_ticks_ > 0 ? first_dev_ / first_ticks_ : 0;
     } else if (sub == 1) {
-      c_a_lo_ = (last_ticks_ > 0 ? last_dev_ / last_ticks_ : 0) - c_a_hi_;
-      c_a_hi_ = (static_cast<int32_t>(sum_ticks_[0]) - div2n<1>(first_ticks_ + last_ticks_)) >> 3;  // span, bins
+      v.a_lo = (last_ticks_ > 0 ? last_dev_ / last_ticks_ : 0) - v.a_hi;
+      v.a_hi = (static_cast<int32_t>(sum_ticks_[0]) - div2n<1>(first_ticks_ + last_ticks_)) >> 3;  // span, bins
     } else if (sub == 2) {
       // T·ẏ = Δ · 2^16 / (span · 1/T): |Δ| clamped to 2^13, × 2^16 < 2^30; span < 2^13 bins ×
       // 1/T ≤ 2^14 < 2^27 (≥ 1, else no correction).
-      const int32_t d = part == 0 ? c_a_lo_ : pending_q8_;
-      const uint32_t den = static_cast<uint32_t>(part == 0 ? c_a_hi_ : hold_len_) * (part == 0 ? inv_t_nofan_q16_ : inv_t_q16_);
+      const int32_t d = part == 0 ? v.a_lo : pending_q8_;
+      const uint32_t den = static_cast<uint32_t>(part == 0 ? v.a_hi : hold_len_) * (part == 0 ? inv_t_nofan_q16_ : inv_t_q16_);
       const uint32_t c = static_cast<int32_t>(den) > 0 ? (static_cast<uint32_t>(abs32(d) > 8192 ? 8192 : abs32(d)) << 16) / den : 0;
-      c_a_hi_ = static_cast<int32_t>(c > 8192 ? 8192 : c);
-      if (d < 0) c_a_hi_ = -c_a_hi_;
+      v.a_hi = static_cast<int32_t>(c > 8192 ? 8192 : c);
+      if (d < 0) v.a_hi = -v.a_hi;
     } else if (sub == 3) {
-      c_mean_q8_ = rise_target + sum_dev_[part] / n + c_a_hi_;
+      v.mean_q8 = rise_target + sum_dev_[part] / n + v.a_hi;
     } else if (sub == 4) {
-      c_duty_ = static_cast<int32_t>(sum_duty_[part] / static_cast<uint32_t>(n));  // duty_q16 >> 4
+      v.duty = static_cast<int32_t>(sum_duty_[part] / static_cast<uint32_t>(n));  // duty_q16 >> 4
     } else {
       // mean rise < 2^17 (≤ 300 °C above ambient), × 2^12 < 2^29.
-      const int32_t g = c_duty_ > 0 && c_mean_q8_ > 0
-                            ? static_cast<int32_t>(((static_cast<uint32_t>(c_mean_q8_) << 12) + static_cast<uint32_t>(c_duty_) / 2) /
-                                                   static_cast<uint32_t>(c_duty_))
+      const int32_t g = v.duty > 0 && v.mean_q8 > 0
+                            ? static_cast<int32_t>(((static_cast<uint32_t>(v.mean_q8) << 12) + static_cast<uint32_t>(v.duty) / 2) /
+                                                   static_cast<uint32_t>(v.duty))
                             : 0;
-      if (part == 0) k_q8_ = g;
-      c_mean_q8_ = g;  // the fan part's gain is read by the next step
+      if (part == 0) v.k_q8 = g;
+      v.mean_q8 = g;  // the fan part's gain is read by the next step
     }
     return false;
   }
@@ -1079,99 +1088,99 @@ bool Autotune::compute_chunk() {
     // Rises above ambient, °C × 256.
     const int32_t y_max = rise_target + c.max_q8, y_min = rise_target + c.min_q8;
     const int32_t s_hi = rise_target + c.switch_hi_q8, s_lo = rise_target + c.switch_lo_q8;
-    const int32_t a_hi = c_a_hi_, a_lo = c_a_lo_;
+    const int32_t a_hi = v.a_hi, a_lo = v.a_lo;
     switch (sub) {
       case 0:
-        c_a_hi_ = fixed::mul_q16(k_q8_, c.u_hi_q16);
-        c_a_lo_ = fixed::mul_q16(k_q8_, c.u_lo_q16);
+        v.a_hi = fixed::mul_q16(v.k_q8, c.u_hi_q16);
+        v.a_lo = fixed::mul_q16(v.k_q8, c.u_lo_q16);
         return false;
       case 1: {
         // FOPDT under a relay: y_max − y_min − (s_hi − s_lo) = (a_hi − a_lo − (s_hi − s_lo))·(1 − θ),
         // θ = e^(−L/T). num < den; num ≤ 2^15 (clamped), × 2^16 < 2^31.
         const int32_t num = y_max - y_min - (s_hi - s_lo);
         const int32_t den = a_hi - a_lo - (s_hi - s_lo);
-        c_theta_ = 0;
+        v.theta = 0;
         if (num <= 0 || den <= num || a_hi <= s_hi || a_hi <= y_min || s_lo <= a_lo || y_max <= a_lo || num > 32767) return false;
-        c_theta_ = 65536u - ((static_cast<uint32_t>(num) << 16) + static_cast<uint32_t>(den) / 2) / static_cast<uint32_t>(den);
+        v.theta = 65536u - ((static_cast<uint32_t>(num) << 16) + static_cast<uint32_t>(den) / 2) / static_cast<uint32_t>(den);
         return false;
       }
       default:
         break;
     }
-    if (c_theta_ == 0) return false;  // this cycle does not fit the FOPDT formulas
+    if (v.theta == 0) return false;  // this cycle does not fit the FOPDT formulas
     switch (sub) {
       case 2:
-        c_lambda_ = fixed_math::log2_q16(c_theta_);
+        v.lambda = fixed_math::log2_q16(v.theta);
         return false;
       case 3:  // λ = L/T = ln(1/θ) = (16 − log2 θ)·ln 2, Q16
-        c_lambda_ = fixed_math::ln_from_log2_q16((int32_t{16} << 16) - c_lambda_);
+        v.lambda = fixed_math::ln_from_log2_q16((int32_t{16} << 16) - v.lambda);
         return false;
       case 4:
-        c_ln_ = fixed_math::log2_q16(static_cast<uint32_t>(a_hi - y_min));
+        v.ln = fixed_math::log2_q16(static_cast<uint32_t>(a_hi - y_min));
         return false;
       case 5:
-        c_ln_ -= fixed_math::log2_q16(static_cast<uint32_t>(a_hi - s_hi));
+        v.ln -= fixed_math::log2_q16(static_cast<uint32_t>(a_hi - s_hi));
         return false;
       case 6:  // 2λ + ln((a_hi − y_min)/(a_hi − s_hi))
-        c_ln_ = 2 * c_lambda_ + fixed_math::ln_from_log2_q16(c_ln_);
+        v.ln = 2 * v.lambda + fixed_math::ln_from_log2_q16(v.ln);
         return false;
       case 7:
-        c_log_ = fixed_math::log2_q16(static_cast<uint32_t>(y_max - a_lo));
+        v.log = fixed_math::log2_q16(static_cast<uint32_t>(y_max - a_lo));
         return false;
       case 8:
-        c_log_ -= fixed_math::log2_q16(static_cast<uint32_t>(s_lo - a_lo));
+        v.log -= fixed_math::log2_q16(static_cast<uint32_t>(s_lo - a_lo));
         return false;
       case 9:  // + ln((y_max − a_lo)/(s_lo − a_lo)): period / T, Q16
-        c_ln_ += fixed_math::ln_from_log2_q16(c_log_);
+        v.ln += fixed_math::ln_from_log2_q16(v.log);
         return false;
       case 10:
-        c_log_ = seconds_q8(static_cast<uint16_t>(c.t_hi + c.t_lo));
+        v.log = seconds_q8(static_cast<uint16_t>(c.t_hi + c.t_lo));
         return false;
       case 11:  // T = period·2^16/(period/T)
-        c_log_ = c_ln_ > 0 ? static_cast<int32_t>(div_q16(static_cast<uint32_t>(c_log_), static_cast<uint32_t>(c_ln_))) : 0;
+        v.log = v.ln > 0 ? static_cast<int32_t>(div_q16(static_cast<uint32_t>(v.log), static_cast<uint32_t>(v.ln))) : 0;
         return false;
       default: {
-        if (c_log_ <= 0) return false;
+        if (v.log <= 0) return false;
         // L = T·λ (λ = whole + Q16 fraction).
-        const int32_t t_q8 = c_log_;
-        const int32_t l_q8 = fixed::mul_round(t_q8, fixed::Multiplier{static_cast<uint32_t>(c_lambda_) >> 16,
-                                                                       static_cast<uint16_t>(c_lambda_)});
+        const int32_t t_q8 = v.log;
+        const int32_t l_q8 = fixed::mul_round(t_q8, fixed::Multiplier{static_cast<uint32_t>(v.lambda) >> 16,
+                                                                       static_cast<uint16_t>(v.lambda)});
         // Not corrected for the relay filter's 1.5-period delay: the filter also rounds the peaks
         // off (a smaller amplitude reads as a shorter L), and the two nearly cancel (measured).
-        t_sum_q8_ += t_q8;
-        l_sum_q8_ += l_q8 > 0 ? l_q8 : 0;
-        ++tl_count_;
+        v.t_sum_q8 += t_q8;
+        v.l_sum_q8 += l_q8 > 0 ? l_q8 : 0;
+        ++v.tl_count;
         return false;
       }
     }
   }
   s = static_cast<uint8_t>(s - k0 - 4 - kCycleSteps * stored);  // the fan gain's 4 steps
-  HotendModel& m = result_.model;
-  const int32_t count = tl_count_ > 0 ? tl_count_ : 1;
+  HotendModel& m = near(result_.model);
+  const int32_t count = v.tl_count > 0 ? v.tl_count : 1;
   switch (s) {
     case 0: {
       // F = K_nofan / K_fan − 1 (%, q8): (K << 12)/K_fan with K < 2^19; × 25,600 < 2^31.
       int32_t f_q8 = 0;
-      if (measure_fan_ && sum_ticks_[1] > 0 && c_mean_q8_ > 0) {
-        const uint32_t r = (static_cast<uint32_t>(k_q8_) << 12) / static_cast<uint32_t>(c_mean_q8_);
+      if (measure_fan_ && sum_ticks_[1] > 0 && v.mean_q8 > 0) {
+        const uint32_t r = (static_cast<uint32_t>(v.k_q8) << 12) / static_cast<uint32_t>(v.mean_q8);
         f_q8 = static_cast<int32_t>(((r > 65535 ? 65535 : r) * 25600u + 2048u) >> 12) - 25600;
       }
       m.fan_loss_pct_q8 = f_q8 < 0 ? 0 : f_q8;
       return false;
     }
     case 1:
-      m.time_constant_q8 = t_sum_q8_ / count;
+      m.time_constant_q8 = v.t_sum_q8 / count;
       return false;
     case 2:
-      m.dead_time_q8 = l_sum_q8_ / count;
+      m.dead_time_q8 = v.l_sum_q8 / count;
       return false;
     case 3:
-      c_a_hi_ = m.time_constant_q8;  // the relay's T (case 6 compares)
-      if (continuous_ && k_q8_ > slope_rise_q8_) {
+      v.a_hi = m.time_constant_q8;  // the relay's T (case 6 compares)
+      if (continuous_ && v.k_q8 > slope_rise_q8_) {
         // A lag-type hotend (its response started within the first pulse and steepened
         // smoothly): the relay's FOPDT formulas misread a lag as a long time constant. T from
         // the heat-up instead: the steepest slope S = (K − rise there)/T (< 2^19 · 2^9).
-        const uint32_t num = static_cast<uint32_t>(k_q8_ - slope_rise_q8_) * static_cast<uint32_t>(seconds_q8(kTicksPerBin));
+        const uint32_t num = static_cast<uint32_t>(v.k_q8 - slope_rise_q8_) * static_cast<uint32_t>(seconds_q8(kTicksPerBin));
         m.time_constant_q8 = static_cast<int32_t>((num + static_cast<uint32_t>(slope_q8_) / 2) / static_cast<uint32_t>(slope_q8_));
       }
       return false;
@@ -1180,19 +1189,19 @@ bool Autotune::compute_chunk() {
       // response to it peaks (at D + p) at h = A·(1 − e^(−p/C)), so C = p / ln(A/(A − h)), with A
       // from the relay (≈ 0.1 %): accurate where the relay's asymmetric formulas scatter by
       // ±2.5 % at σ 0.1 °C. Here ln(A/(A − h)) as log2 (A < 2^19, A − h ≥ 1).
-      c_ln_ = 0;
-      if (!continuous_ && probe_max_q8_ > 0 && k_q8_ > probe_max_q8_) {
-        c_ln_ = fixed_math::log2_q16(static_cast<uint32_t>(k_q8_)) -
-                fixed_math::log2_q16(static_cast<uint32_t>(k_q8_ - probe_max_q8_));
+      v.ln = 0;
+      if (!continuous_ && probe_max_q8_ > 0 && v.k_q8 > probe_max_q8_) {
+        v.ln = fixed_math::log2_q16(static_cast<uint32_t>(v.k_q8)) -
+                fixed_math::log2_q16(static_cast<uint32_t>(v.k_q8 - probe_max_q8_));
       }
       return false;
     case 5: {
       // C = p·2^16 / ln (p ≤ 6 s: < 2^11 in q8); a C over 2^23 (no FOPDT hotend) counts as none.
-      c_lambda_ = 0;
-      if (c_ln_ > 0) {
+      v.lambda = 0;
+      if (v.ln > 0) {
         const uint32_t c = div_q16(static_cast<uint32_t>(seconds_q8(on_ticks_)),
-                                   static_cast<uint32_t>(fixed_math::ln_from_log2_q16(c_ln_)));
-        c_lambda_ = c < (uint32_t{1} << 23) ? static_cast<int32_t>(c) : 0;
+                                   static_cast<uint32_t>(fixed_math::ln_from_log2_q16(v.ln)));
+        v.lambda = c < (uint32_t{1} << 23) ? static_cast<int32_t>(c) : 0;
       }
       return false;
     }
@@ -1202,36 +1211,36 @@ bool Autotune::compute_chunk() {
       // the lag (the FOPDT equivalent of the heat-up, as a two-point fit of it: the M307 model's
       // initial rate A/C and its delay are what its model-following heat-up relies on).
       const int32_t lag = seconds_q8(static_cast<uint16_t>(horizon_ticks_));
-      c_log_ = 0;  // x for the next step: 0 = no lag seen
-      if (continuous_ && k_q8_ > slope_rise_q8_) {
+      v.log = 0;  // x for the next step: 0 = no lag seen
+      if (continuous_ && v.k_q8 > slope_rise_q8_) {
         if (m.time_constant_q8 > 2 * lag) m.time_constant_q8 -= lag;
         m.dead_time_q8 = lag;
         // x = lag / T, Q16 (the next step turns it into the two-point dead time), when the
         // relay's FOPDT formulas saw a lag (their T > 1.5 × the heat-up's: 2.2–3.5 × on the
         // two-node plants and seed003); a true FOPDT's tangent is right (fopdt-30-1: 1.18 ×).
-        if (2 * c_a_hi_ > 3 * m.time_constant_q8) {
-          c_log_ = static_cast<int32_t>(div_q16(static_cast<uint32_t>(lag), static_cast<uint32_t>(m.time_constant_q8)));
+        if (2 * v.a_hi > 3 * m.time_constant_q8) {
+          v.log = static_cast<int32_t>(div_q16(static_cast<uint32_t>(lag), static_cast<uint32_t>(m.time_constant_q8)));
         }
-      } else if (c_lambda_ > 0 && 10 * abs32(c_lambda_ - m.time_constant_q8) < m.time_constant_q8) {
+      } else if (v.lambda > 0 && 10 * abs32(v.lambda - m.time_constant_q8) < m.time_constant_q8) {
         // The probe's C where it agrees with the relay's within 10 % (an FOPDT hotend; a lag or
         // a noisy peak would not): |C − T| < 2^23, × 10 < 2^27.
-        m.time_constant_q8 = c_lambda_;
+        m.time_constant_q8 = v.lambda;
       } else if (slope_q8_ > 0 && !hot_start_) {
         // A cut probe (hot start, or a slower response): S = K/T at full power. The relay's FOPDT
         // formulas read a sensor lag as a long T (×3 on a lag-type hotend); K/S does not. Taken
         // when it is well below the relay's T (an FOPDT hotend: within noise, the relay's kept);
         // cold starts only (a hot start's pulse is read against a decaying baseline: S unsure).
         // K < 2^19, × (s × 256 per bin) < 2^10: < 2^29.
-        const uint32_t num = static_cast<uint32_t>(k_q8_) * static_cast<uint32_t>(seconds_q8(kTicksPerBin));
+        const uint32_t num = static_cast<uint32_t>(v.k_q8) * static_cast<uint32_t>(seconds_q8(kTicksPerBin));
         const int32_t t_s = static_cast<int32_t>((num + static_cast<uint32_t>(slope_q8_) / 2) / static_cast<uint32_t>(slope_q8_));
         if (t_s > 0 && 4 * t_s < 3 * m.time_constant_q8) m.time_constant_q8 = t_s;
       }
       return false;
     }
     case 7:
-      if (c_log_ > 0) {
+      if (v.log > 0) {
         result_.sensor_lag_q8 = m.dead_time_q8;
-        m.dead_time_q8 = two_point_dead_time(m.dead_time_q8, c_log_);
+        m.dead_time_q8 = two_point_dead_time(m.dead_time_q8, v.log);
       } else if (!continuous_ && !hot_start_) {
         // A cut probe whose cut-to-peak time is over 4 × the relay's dead time: no FOPDT peaks
         // that late (there it is the dead time), two lags τ1 ≫ τ2 peak at τ2·ln(τ1/τ2)/(1 − τ2/τ1),
@@ -1250,7 +1259,7 @@ bool Autotune::compute_chunk() {
       return false;
     default:
       result_.ultimate.tu_q8 = ku_count_ > 0 ? static_cast<int32_t>(tu_sum_q8_ / ku_count_) : 0;
-      m.rise_q8 = k_q8_;
+      m.rise_q8 = v.k_q8;
       result_.ambient_q8 = ambient_q8_;
       result_.hot_start = hot_start_;
       result_.unsure = untrusted_;

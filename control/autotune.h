@@ -318,13 +318,7 @@ class Autotune {
 
   // Compute.
   uint8_t compute_step_ = 0;
-  int32_t k_q8_ = 0;            // K: °C × 256 per unit duty
-  int32_t t_sum_q8_ = 0, l_sum_q8_ = 0;
-  uint8_t tl_count_ = 0;
   int32_t slope_rise_q8_ = 0;   // rise at the centre of the steepest heat-up window (cut probe: its smoothed peak)
-  int32_t c_mean_q8_ = 0, c_duty_ = 0;  // compute temporaries
-  int32_t c_lambda_ = 0, c_ln_ = 0, c_log_ = 0, c_a_hi_ = 0, c_a_lo_ = 0;
-  uint32_t c_theta_ = 0;
   uint8_t crossings_ = 0;
   uint8_t steady_bins_ = 0;     // bins the duty has stayed near steady_ref_
   int16_t steady_ref_ = 0;
@@ -334,6 +328,16 @@ class Autotune {
   int16_t ring_[kRingBins] = {};  // Smith predictor: model's undelayed rise per bin − offset, °C × 16
   uint8_t duty_ring_[kRingBins] = {};  // mean duty per bin, 255 = 100 %
   StoredCycle stored_[kMaxStoredCycles] = {};
+  // compute_chunk's own figures, reached through one pointer (near() in autotune.cpp): their
+  // place in the object then costs nothing.
+  struct Compute {
+    int32_t k_q8;  // K: °C × 256 per unit duty
+    int32_t a_hi, a_lo, log, ln, lambda, mean_q8, duty;  // temporaries
+    uint32_t theta;
+    int32_t t_sum_q8, l_sum_q8;
+    uint8_t tl_count;
+  };
+  Compute c_ = {};
 
   AutotuneCycle cycle_{0, 0, 0, 0};
   AutotuneUltimate ultimate_{0, 0};

@@ -225,7 +225,7 @@ AutotuneOutput Autotune::step(int32_t y) {
     start_q8_ = y;
     for (int32_t& v : yf_ring_) v = y;
   }
-  if (phase_ == Phase::kBaseline || phase_ == Phase::kCool || (phase_ == Phase::kProbe && !detected_)) {
+  if (phase_ == Phase::kBaseline || phase_ == Phase::kCool || (phase_ == Phase::kProbe && !probe_.detected)) {
     measure_noise(y);
   }
   // Filter for the relay: mean of the last 4 readings (σ halves; 1.5 periods of delay).
@@ -244,16 +244,16 @@ AutotuneOutput Autotune::step(int32_t y) {
       ++probe_ticks_;
       if (heater_on_) {
         ++on_ticks_;
-        if (on_ticks_ >= cap_ticks_ && !(detected_ && extend_)) {
+        if (on_ticks_ >= probe_.cap_ticks && !(probe_.detected && probe_.extend)) {
           heater_on_ = false;
-          off_tick_ = probe_ticks_;
+          probe_.off_tick = probe_ticks_;
         }
       }
       // Between the decision and the approach (begin stages) the pulse goes on as it was.
       duty_q16_ = heater_on_ ? kFull : 0;
       // The highest single reading after the cut: the FOPDT response's sharp peak, which a bin
       // mean rounds off by up to ~4 % of its height (seed002: rising 16 °C/s, falling 2.6).
-      if (!heater_on_ && !peaked_ && y > probe_max_q8_) probe_max_q8_ = y;
+      if (!heater_on_ && !probe_.peaked && y > probe_max_q8_) probe_max_q8_ = y;
       break;
     case Phase::kRelay:
       ended = relay_tick(yf, y);
@@ -292,7 +292,7 @@ AutotuneOutput Autotune::step(int32_t y) {
       probe_pending_ = false;
       // A cold hotend's baseline over the last 4 bins (σ halved on a noisy sensor); a hot one
       // decays by up to ~1 °C a bin: its last bin.
-      base_rise_q8_ = (hot_start_ || retries_ != 0 ? y_bin_q8_ : div2n<2>(y_bin_q8_ + y_hist_q8_[0] + y_hist_q8_[1] + y_hist_q8_[2] + 2)) -
+      probe_.base_rise_q8 = (hot_start_ || probe_.retries != 0 ? y_bin_q8_ : div2n<2>(y_bin_q8_ + y_hist_q8_[0] + y_hist_q8_[1] + y_hist_q8_[2] + 2)) -
                       ambient_q8_;
       start_probe();
       stage_ = 0;
@@ -373,13 +373,13 @@ uint8_t Autotune::baseline_stage(uint8_t stage) {
   }
   if (stage == 2) {
     // Decay rate of a hot start: −slope/rise per bin, Q16 (−slope clamped < 2^15: fits).
-    base_rate_q16_ = 0;
+    probe_.base_rate_q16 = 0;
     const int32_t slope = pending_q8_;
     if (hot_start_ && slope < 0 && rise > 10 * kQ8) {
       const uint32_t ds = static_cast<uint32_t>(-slope > 32767 ? 32767 : -slope);
-      base_rate_q16_ = clamp_duty(static_cast<int32_t>((ds << 16) / static_cast<uint32_t>(rise)));
+      probe_.base_rate_q16 = clamp_duty(static_cast<int32_t>((ds << 16) / static_cast<uint32_t>(rise)));
     }
-    base_rise_q8_ = rise;
+    probe_.base_rise_q8 = rise;
     return 3;
   }
   // First pulse: at most 40 % of the headroom at an assumed 20 °C/s, and 6 s:
@@ -388,24 +388,25 @@ uint8_t Autotune::baseline_stage(uint8_t stage) {
   const uint32_t den = static_cast<uint32_t>(5 * kAssumedSlopeQ8PerS) * period_ms_;
   const uint32_t cap = (static_cast<uint32_t>(room > 0 ? room : 0) * 2000u + den / 2) / den;
   const uint32_t max_cap = t6_;
-  cap_ticks_ = static_cast<uint16_t>(cap > max_cap ? max_cap : (cap < 1 ? 1 : cap));
+  probe_.cap_ticks = static_cast<uint16_t>(cap > max_cap ? max_cap : (cap < 1 ? 1 : cap));
   probe_pending_ = true;
   return 0;
 }
 
 void Autotune::start_probe() {
+  Probe& p = near(probe_);
   enter(Phase::kProbe);
   probe_ticks_ = 0;
   on_ticks_ = 0;
   heater_on_ = true;
-  extend_ = false;
-  detected_ = false;
-  peaked_ = false;
-  dev_q8_ = dev_prev_q8_ = dev_prev2_q8_ = 0;
-  slope_max_q8_ = 0;
-  slope_max_bin_ = 0;
-  dev_peak_q8_ = INT32_MIN;
-  slope_rise_q8_ = INT32_MIN;  // the smoothed peak until the probe takes the tangent path
+  p.extend = false;
+  p.detected = false;
+  p.peaked = false;
+  p.dev_q8 = p.dev_prev_q8 = p.dev_prev2_q8 = 0;
+  p.slope_max_q8 = 0;
+  p.slope_max_bin = 0;
+  p.dev_peak_q8 = INT32_MIN;
+  p.slope_rise_q8 = INT32_MIN;  // the smoothed peak until the probe takes the tangent path
   probe_max_q8_ = INT32_MIN;
   duty_q16_ = kFull;
 }
@@ -413,22 +414,23 @@ void Autotune::start_probe() {
 // Stage 1 is the probe's bin logic; 2 (tangent) or 3–4 (after the peak) finish its model, then
 // the hand-over stages 20–22.
 uint8_t Autotune::probe_stage(uint8_t stage) {
+  Probe& p = near(probe_);
   if (stage == 2) {
     // Tangent dead time: L = t − rise/S at the steepest point (one division).
-    horizon_ticks_ = max_centre_tick_ - slope_max_dev_q8_ * kTicksPerBin / slope_q8_;
+    horizon_ticks_ = p.max_centre_tick - p.slope_max_dev_q8 * kTicksPerBin / slope_q8_;
     return 20;
   }
   const uint16_t k = bins_;  // bin k covers probe ticks (8(k − 1), 8k]
   if (stage == 3) {
     // Loss rate from the decay after the peak: drop / (mid rise · bins), Q16 (drop < 2^15).
-    const int32_t drop = y_peak_q8_ - y_bin_q8_;
-    const int32_t mid_rise = div2n<1>(y_peak_q8_ + y_bin_q8_) - ambient_q8_;
+    const int32_t drop = p.y_peak_q8 - y_bin_q8_;
+    const int32_t mid_rise = div2n<1>(p.y_peak_q8 + y_bin_q8_) - ambient_q8_;
     uint32_t inv_t = 0;
     // A drop under 1 °C (or 4 σ of a noisy reading: the highest bin is itself lifted by the noise)
     // is noise: loss unknown (learnt during the heat-up).
     if (drop > noise_floor(kQ8, kLossDropSigmaQ4) && mid_rise > kQ8) {
       const uint32_t num = static_cast<uint32_t>(drop > 32767 ? 32767 : drop) << 16;
-      const uint32_t den = static_cast<uint32_t>(mid_rise) * static_cast<uint32_t>(k - peak_bin_);
+      const uint32_t den = static_cast<uint32_t>(mid_rise) * static_cast<uint32_t>(k - p.peak_bin);
       inv_t = (num + den / 2) / den;
     }
     inv_t_q16_ = static_cast<uint16_t>(inv_t > 16384 ? 16384 : inv_t);
@@ -437,7 +439,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
   if (stage == 4) {
     // S: the steepest slope of the response, or the whole rise over the pulse when the pulse was
     // too short for a clean slope.
-    pending_q8_ = dev_peak_q8_ * kTicksPerBin / (on_ticks_ > 0 ? on_ticks_ : 1);
+    pending_q8_ = p.dev_peak_q8 * kTicksPerBin / (on_ticks_ > 0 ? on_ticks_ : 1);
     return 5;
   }
   if (stage == 5) {
@@ -450,10 +452,10 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     const uint32_t x16 = x >> 4;
     const uint32_t factor = 65536 + x / 2 + ((((x16 * x16) >> 8) * 5461u) >> 16);
     const int32_t s = fixed::mul_round(pending_q8_, fixed::Multiplier{factor >> 16, static_cast<uint16_t>(factor)});
-    slope_q8_ = s < slope_max_q8_ ? slope_max_q8_ : s;
+    slope_q8_ = s < p.slope_max_q8 ? p.slope_max_q8 : s;
     full_bins_ = 0;
     // Cut-to-peak time (the FOPDT's dead time): the peak is at the centre of the highest bin.
-    horizon_ticks_ = static_cast<int32_t>(peak_bin_) * kTicksPerBin - kTicksPerBin / 2 - static_cast<int32_t>(off_tick_);
+    horizon_ticks_ = static_cast<int32_t>(p.peak_bin) * kTicksPerBin - kTicksPerBin / 2 - static_cast<int32_t>(p.off_tick);
     // The pulse's peak height above a steady baseline (compute: C from it); 0 when the baseline
     // was not steady (hot start: decaying; a retry: the earlier pulses' tails). A sharp peak
     // (fast FOPDT) is the highest reading: the bins round it off by more than 3 σ, and few
@@ -461,92 +463,92 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     // 3 σ of it; slow hotends: many readings near the top, whose highest is lifted by ~2 σ, and
     // the measured σ reads ~10 % low) is the highest bin (σ/√8). The max is a real reading here
     // (the cut path has readings between the cut and the peak), so the subtraction cannot wrap.
-    probe_max_q8_ -= ambient_q8_ + base_rise_q8_;
-    if (dev_peak_q8_ > probe_max_q8_ - 3 * static_cast<int32_t>(noise_q8_)) probe_max_q8_ = dev_peak_q8_;
-    if (hot_start_ || retries_ != 0) probe_max_q8_ = 0;
+    probe_max_q8_ -= ambient_q8_ + p.base_rise_q8;
+    if (p.dev_peak_q8 > probe_max_q8_ - 3 * static_cast<int32_t>(noise_q8_)) probe_max_q8_ = p.dev_peak_q8;
+    if (hot_start_ || p.retries != 0) probe_max_q8_ = 0;
     return 20;
   }
   // The baseline the hotend would follow without the probe (decaying when hot).
-  base_rise_q8_ -= fixed::mul_q16(base_rise_q8_, base_rate_q16_);
-  dev_prev2_q8_ = dev_prev_q8_;
-  dev_prev_q8_ = dev_q8_;
-  dev_q8_ = y_bin_q8_ - ambient_q8_ - base_rise_q8_;
-  if (!detected_ && dev_q8_ >= noise_floor(kDetectQ8, kDetectSigmaQ4)) {
-    detected_ = true;
-    det_bin_ = k;
+  p.base_rise_q8 -= fixed::mul_q16(p.base_rise_q8, p.base_rate_q16);
+  p.dev_prev2_q8 = p.dev_prev_q8;
+  p.dev_prev_q8 = p.dev_q8;
+  p.dev_q8 = y_bin_q8_ - ambient_q8_ - p.base_rise_q8;
+  if (!p.detected && p.dev_q8 >= noise_floor(kDetectQ8, kDetectSigmaQ4)) {
+    p.detected = true;
+    p.det_bin = k;
   }
   int32_t slope = 0;
   if (k >= 3) {
-    slope = div2n<1>(dev_q8_ - dev_prev2_q8_);  // centred on bin k − 1
-    if (slope > slope_max_q8_ + div2n<5>(slope_max_q8_)) slope_max_bin_ = k;
-    if (slope > slope_max_q8_) {
-      slope_max_q8_ = slope;
-      slope_max_dev_q8_ = dev_prev_q8_;
-      max_centre_tick_ = static_cast<int32_t>(k - 1) * kTicksPerBin - kTicksPerBin / 2;
+    slope = div2n<1>(p.dev_q8 - p.dev_prev2_q8);  // centred on bin k − 1
+    if (slope > p.slope_max_q8 + div2n<5>(p.slope_max_q8)) p.slope_max_bin = k;
+    if (slope > p.slope_max_q8) {
+      p.slope_max_q8 = slope;
+      p.slope_max_dev_q8 = p.dev_prev_q8;
+      p.max_centre_tick = static_cast<int32_t>(k - 1) * kTicksPerBin - kTicksPerBin / 2;
     }
   }
   if (heater_on_) {
-    if (!detected_) return 0;
+    if (!p.detected) return 0;
     // Still steepening (lags filling up): keep heating past the energy cap while, even at the
     // current slope over a generous horizon (2× the detection time + 4 s), it stays 10 °C
     // below the target. Once the slope is steady, S and the tangent's dead time are known:
     // go on heating under the approach's predictor, without a cut.
-    const int32_t horizon = 2 * det_bin_ + 4;
-    const bool steepening = k - slope_max_bin_ < 3 || k < det_bin_ + 3;
+    const int32_t horizon = 2 * p.det_bin + 4;
+    const bool steepening = k - p.slope_max_bin < 3 || k < p.det_bin + 3;
     const bool safe = y_bin_q8_ + slope * horizon < target_q8_ - 10 * kQ8 && on_ticks_ < t40_;
-    extend_ = steepening && safe;
-    if (!extend_ && slope_max_q8_ > 0 && (on_ticks_ >= cap_ticks_ || !steepening)) {
-      continuous_ = true;
-      extend_ = true;  // the heater stays on through the hand-over stages
-      slope_rise_q8_ = slope_max_dev_q8_ + base_rise_q8_;
-      slope_q8_ = slope_max_q8_;
-      inv_t_q16_ = base_rate_q16_;  // a hot start's decay is the loss rate; cold: learnt at full power
+    p.extend = steepening && safe;
+    if (!p.extend && p.slope_max_q8 > 0 && (on_ticks_ >= p.cap_ticks || !steepening)) {
+      p.continuous = true;
+      p.extend = true;  // the heater stays on through the hand-over stages
+      p.slope_rise_q8 = p.slope_max_dev_q8 + p.base_rise_q8;
+      slope_q8_ = p.slope_max_q8;
+      inv_t_q16_ = p.base_rate_q16;  // a hot start's decay is the loss rate; cold: learnt at full power
       full_bins_ = static_cast<uint8_t>(on_ticks_ / kTicksPerBin > 250 ? 250 : on_ticks_ / kTicksPerBin);
       return 2;
     }
     return 0;
   }
-  const uint16_t since_off = static_cast<uint16_t>(probe_ticks_ - off_tick_);
-  if (!detected_) {
+  const uint16_t since_off = static_cast<uint16_t>(probe_ticks_ - p.off_tick);
+  if (!p.detected) {
     if (since_off > t60_) {
       // Nothing in a minute: a weaker hotend than assumed (or a dead heater). A 4× longer
       // pulse is safe: the last one raised it by less than 0.5 °C.
-      if (++retries_ > 3) {
+      if (++p.retries > 3) {
         fail(AutotuneFailure::kNoHeating);
         return 0;
       }
-      cap_ticks_ = static_cast<uint16_t>(cap_ticks_ * 4);
-      base_rate_q16_ = 0;
+      p.cap_ticks = static_cast<uint16_t>(p.cap_ticks * 4);
+      p.base_rate_q16 = 0;
       probe_pending_ = true;
       heater_on_ = false;
     }
     return 0;
   }
-  if (!peaked_) {
+  if (!p.peaked) {
     // The peak (timing, height) is the highest bin, but it counts as past only once the
     // deviations smoothed 1-2-1 (bin noise × 0.6, each against its own bin's baseline) are 1/8 °C
     // below their own highest: a 1/16 °C drop on one bin (σ 0.07 °C per bin at σ = 0.2 °C
     // readings) passed for seed000-4's peak at 41 s (89–122 s at σ 0.1), a short dead time
     // that made its model trusted (S + 17.5 °C). Sum ≤ 4 · 2^17.
-    const int32_t dev_s = div2n<2>(dev_prev2_q8_ + 2 * dev_prev_q8_ + dev_q8_ + 2);
-    int32_t& smooth_peak_q8 = slope_rise_q8_;  // unused on this (the cut) path: no RAM of its own
+    const int32_t dev_s = div2n<2>(p.dev_prev2_q8 + 2 * p.dev_prev_q8 + p.dev_q8 + 2);
+    int32_t& smooth_peak_q8 = p.slope_rise_q8;  // unused on this (the cut) path: no RAM of its own
     if (dev_s > smooth_peak_q8) smooth_peak_q8 = dev_s;
-    if (dev_q8_ > dev_peak_q8_) {
-      dev_peak_q8_ = dev_q8_;
-      peak_bin_ = k;
-      y_peak_q8_ = y_bin_q8_;
-    } else if ((k - peak_bin_ >= 2 && dev_s < smooth_peak_q8 - noise_floor(kPeakDropQ8, kPeakDropSigmaQ4)) || since_off > t90_) {
+    if (p.dev_q8 > p.dev_peak_q8) {
+      p.dev_peak_q8 = p.dev_q8;
+      p.peak_bin = k;
+      p.y_peak_q8 = y_bin_q8_;
+    } else if ((k - p.peak_bin >= 2 && dev_s < smooth_peak_q8 - noise_floor(kPeakDropQ8, kPeakDropSigmaQ4)) || since_off > t90_) {
       // (after 90 s: a plateau, a near-integrating or very slow hotend: take the highest, and
       // do not trust the model it gives)
       if (since_off > t90_) untrusted_ = true;
-      peaked_ = true;
+      p.peaked = true;
     }
     return 0;
   }
   // Decay after the peak for a quarter of the cut-to-peak time (≥ 3 bins): the loss rate 1/T.
-  const int32_t peak_tick = static_cast<int32_t>(peak_bin_) * kTicksPerBin - kTicksPerBin / 2;
-  const int32_t quarter = (peak_tick - static_cast<int32_t>(off_tick_)) >> 5;  // ÷ (4·kTicksPerBin)
-  if (k - peak_bin_ < (quarter < 3 ? 3 : quarter)) return 0;
+  const int32_t peak_tick = static_cast<int32_t>(p.peak_bin) * kTicksPerBin - kTicksPerBin / 2;
+  const int32_t quarter = (peak_tick - static_cast<int32_t>(p.off_tick)) >> 5;  // ÷ (4·kTicksPerBin)
+  if (k - p.peak_bin < (quarter < 3 ? 3 : quarter)) return 0;
   return 3;
 }
 
@@ -1176,11 +1178,11 @@ bool Autotune::compute_chunk() {
       return false;
     case 3:
       v.a_hi = m.time_constant_q8;  // the relay's T (case 6 compares)
-      if (continuous_ && v.k_q8 > slope_rise_q8_) {
+      if (probe_.continuous && v.k_q8 > probe_.slope_rise_q8) {
         // A lag-type hotend (its response started within the first pulse and steepened
         // smoothly): the relay's FOPDT formulas misread a lag as a long time constant. T from
         // the heat-up instead: the steepest slope S = (K − rise there)/T (< 2^19 · 2^9).
-        const uint32_t num = static_cast<uint32_t>(v.k_q8 - slope_rise_q8_) * static_cast<uint32_t>(seconds_q8(kTicksPerBin));
+        const uint32_t num = static_cast<uint32_t>(v.k_q8 - probe_.slope_rise_q8) * static_cast<uint32_t>(seconds_q8(kTicksPerBin));
         m.time_constant_q8 = static_cast<int32_t>((num + static_cast<uint32_t>(slope_q8_) / 2) / static_cast<uint32_t>(slope_q8_));
       }
       return false;
@@ -1190,7 +1192,7 @@ bool Autotune::compute_chunk() {
       // from the relay (≈ 0.1 %): accurate where the relay's asymmetric formulas scatter by
       // ±2.5 % at σ 0.1 °C. Here ln(A/(A − h)) as log2 (A < 2^19, A − h ≥ 1).
       v.ln = 0;
-      if (!continuous_ && probe_max_q8_ > 0 && v.k_q8 > probe_max_q8_) {
+      if (!probe_.continuous && probe_max_q8_ > 0 && v.k_q8 > probe_max_q8_) {
         v.ln = fixed_math::log2_q16(static_cast<uint32_t>(v.k_q8)) -
                 fixed_math::log2_q16(static_cast<uint32_t>(v.k_q8 - probe_max_q8_));
       }
@@ -1212,7 +1214,7 @@ bool Autotune::compute_chunk() {
       // initial rate A/C and its delay are what its model-following heat-up relies on).
       const int32_t lag = seconds_q8(static_cast<uint16_t>(horizon_ticks_));
       v.log = 0;  // x for the next step: 0 = no lag seen
-      if (continuous_ && v.k_q8 > slope_rise_q8_) {
+      if (probe_.continuous && v.k_q8 > probe_.slope_rise_q8) {
         if (m.time_constant_q8 > 2 * lag) m.time_constant_q8 -= lag;
         m.dead_time_q8 = lag;
         // x = lag / T, Q16 (the next step turns it into the two-point dead time), when the
@@ -1241,7 +1243,7 @@ bool Autotune::compute_chunk() {
       if (v.log > 0) {
         result_.sensor_lag_q8 = m.dead_time_q8;
         m.dead_time_q8 = two_point_dead_time(m.dead_time_q8, v.log);
-      } else if (!continuous_ && !hot_start_) {
+      } else if (!probe_.continuous && !hot_start_) {
         // A cut probe whose cut-to-peak time is over 4 × the relay's dead time: no FOPDT peaks
         // that late (there it is the dead time), two lags τ1 ≫ τ2 peak at τ2·ln(τ1/τ2)/(1 − τ2/τ1),
         // 2–3 τ2 for τ2/τ1 = 0.2–0.05 (heavy-slow: 66 s, τ2 = 25 s). τ2 ≈ peak/2.5 is then the

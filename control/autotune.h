@@ -231,13 +231,32 @@ class Autotune {
 
   // Baseline / probe.
   int32_t y0_q8_ = 0;
-  int32_t base_rise_q8_ = 0;   // predicted baseline, relative to ambient
-  uint16_t base_rate_q16_ = 0;  // baseline decay per bin, Q16 (hot start)
+  struct Probe {  // reached through near() where used most
+    int32_t base_rise_q8;   // predicted baseline, relative to ambient
+    uint16_t base_rate_q16;  // baseline decay per bin, Q16 (hot start)
+    uint16_t cap_ticks;     // energy cap of the probe's pulse
+    uint16_t off_tick;      // tick (since probe start) the pulse ended
+    bool extend;        // pulse extended past the cap (response seen, still steepening)
+    bool detected;
+    uint16_t det_bin;
+    int32_t dev_q8;
+    int32_t dev_prev_q8;
+    int32_t dev_prev2_q8;
+    int32_t slope_max_q8;
+    uint16_t slope_max_bin;
+    int32_t slope_max_dev_q8;  // deviation at the centre of the steepest window
+    bool continuous;
+    int32_t max_centre_tick;
+    int32_t dev_peak_q8;
+    uint16_t peak_bin;
+    bool peaked;
+    int32_t y_peak_q8;
+    uint8_t retries;
+    int32_t slope_rise_q8;   // rise at the centre of the steepest heat-up window (cut probe: its smoothed peak)
+  };
+  Probe probe_ = {};
   int32_t start_q8_ = 0;       // reading at start()
   bool hot_start_ = false;
-  uint16_t cap_ticks_ = 0;     // energy cap of the probe's pulse
-  uint16_t off_tick_ = 0;      // tick (since probe start) the pulse ended
-  bool extend_ = false;        // pulse extended past the cap (response seen, still steepening)
   bool cooled_ = false;        // a hot start has shown its decay
   // Cool phase: the reading it started at. From the probe on (the cool phase is over): the
   // highest reading after the pulse's cut, then (cut probe) its height above the baseline.
@@ -245,19 +264,6 @@ class Autotune {
     int32_t cool_ref_q8_ = 0;
     int32_t probe_max_q8_;
   };
-  bool detected_ = false;
-  uint16_t det_bin_ = 0;
-  int32_t dev_q8_ = 0, dev_prev_q8_ = 0, dev_prev2_q8_ = 0;
-  int32_t slope_max_q8_ = 0;
-  uint16_t slope_max_bin_ = 0;
-  int32_t slope_max_dev_q8_ = 0;  // deviation at the centre of the steepest window
-  bool continuous_ = false;
-  int32_t max_centre_tick_ = 0;
-  int32_t dev_peak_q8_ = 0;
-  uint16_t peak_bin_ = 0;
-  bool peaked_ = false;
-  int32_t y_peak_q8_ = 0;
-  uint8_t retries_ = 0;
   // Reading noise, measured while nothing but noise moves the reading (baseline, cooling, the
   // probe until its response shows): Σ|second difference| over noise_n_ readings, and the σ
   // it gives (°C × 256). The probe's thresholds, the relay's hysteresis and the trend guard's
@@ -318,7 +324,6 @@ class Autotune {
 
   // Compute.
   uint8_t compute_step_ = 0;
-  int32_t slope_rise_q8_ = 0;   // rise at the centre of the steepest heat-up window (cut probe: its smoothed peak)
   uint8_t crossings_ = 0;
   uint8_t steady_bins_ = 0;     // bins the duty has stayed near steady_ref_
   int16_t steady_ref_ = 0;

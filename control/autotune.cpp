@@ -259,7 +259,7 @@ AutotuneOutput Autotune::step(int32_t y) {
       ended = relay_tick(yf, y);
       break;
     case Phase::kApproach:
-      if (hold_bins_ != 0) {
+      if (appr_.hold_bins != 0) {
         // The fan hold: its mean rise over its mean duty is the gain with the fan (compute).
         sum_dev_[1] += y - target_q8_;  // |y − target| < 2^14 per tick, ≤ 2^16 ticks
         sum_duty_[1] += duty_q16_ >> 4;
@@ -453,7 +453,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     const uint32_t factor = 65536 + x / 2 + ((((x16 * x16) >> 8) * 5461u) >> 16);
     const int32_t s = fixed::mul_round(pending_q8_, fixed::Multiplier{factor >> 16, static_cast<uint16_t>(factor)});
     slope_q8_ = s < p.slope_max_q8 ? p.slope_max_q8 : s;
-    full_bins_ = 0;
+    appr_.full_bins = 0;
     // Cut-to-peak time (the FOPDT's dead time): the peak is at the centre of the highest bin.
     horizon_ticks_ = static_cast<int32_t>(p.peak_bin) * kTicksPerBin - kTicksPerBin / 2 - static_cast<int32_t>(p.off_tick);
     // The pulse's peak height above a steady baseline (compute: C from it); 0 when the baseline
@@ -503,7 +503,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
       p.slope_rise_q8 = p.slope_max_dev_q8 + p.base_rise_q8;
       slope_q8_ = p.slope_max_q8;
       inv_t_q16_ = p.base_rate_q16;  // a hot start's decay is the loss rate; cold: learnt at full power
-      full_bins_ = static_cast<uint8_t>(on_ticks_ / kTicksPerBin > 250 ? 250 : on_ticks_ / kTicksPerBin);
+      appr_.full_bins = static_cast<uint8_t>(on_ticks_ / kTicksPerBin > 250 ? 250 : on_ticks_ / kTicksPerBin);
       return 2;
     }
     return 0;
@@ -553,8 +553,9 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
 }
 
 // Probe → approach hand-over, from S (slope_q8_), L̂ (horizon_ticks_), 1/T (inv_t_q16_) and the
-// bins at full power just before (full_bins_): 20 the gain, 21 the steady duty, 22 the model.
+// bins at full power just before (appr_.full_bins): 20 the gain, 21 the steady duty, 22 the model.
 uint8_t Autotune::begin_stage(uint8_t stage) {
+  Approach& ap = near(appr_);
   if (stage == 20) {
     if (slope_q8_ < 8) slope_q8_ = 8;
     if (horizon_ticks_ < kTicksPerBin) horizon_ticks_ = kTicksPerBin;
@@ -568,7 +569,7 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   }
   if (stage == 21) {
     // ū = loss at the target / S (0 while the loss is unknown: learnt during the heat-up).
-    steady_q16_ = steady_from_model();
+    ap.steady_q16 = steady_from_model();
     return 22;
   }
   // The model's history over the last L̂ bins: the undelayed state whose delayed copy is the
@@ -577,7 +578,7 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   // now is closed-form: rise + S·on without loss (the tangent probe), rise·(1 − 1/T)^L̂ with it
   // (the cut probe, on = 0), the power by squaring (≤ 12 16×16 multiplies).
   const int32_t rise = y_bin_q8_ - ambient_q8_;
-  const uint8_t on = full_bins_ < horizon_bins_ ? full_bins_ : horizon_bins_;
+  const uint8_t on = ap.full_bins < horizon_bins_ ? ap.full_bins : horizon_bins_;
   uint32_t p = 65536;  // (1 − a)^hb, Q16; every product ≤ 2^16 · 65535 < 2^32
   uint16_t base = static_cast<uint16_t>(65536u - inv_t_q16_);  // inv_t ≥ 1 here, or unused
   for (uint8_t n = inv_t_q16_ != 0 ? horizon_bins_ : 0; n != 0; n >>= 1) {
@@ -586,17 +587,17 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   }
   model_q8_ = (p >= 65536 ? rise : fixed::mul_q16(rise, static_cast<uint16_t>(p))) + slope_q8_ * on;
   offset_q8_ = 0;
-  fill_x_q8_ = rise;
-  fill_j_ = horizon_bins_;
-  fill_on_ = on;
-  fill_a_q16_ = inv_t_q16_;
-  fill_head_ = ring_head_;
-  ref_rise_q8_ = rise;
-  ref_slope_q8_ = 0;
-  full_bins_ = on;
-  duty_avg_q16_ = 0;
-  settled_bins_ = 0;
-  near_bins_ = 0;
+  ap.fill_x_q8 = rise;
+  ap.fill_j = horizon_bins_;
+  ap.fill_on = on;
+  ap.fill_a_q16 = inv_t_q16_;
+  ap.fill_head = ring_head_;
+  ap.ref_rise_q8 = rise;
+  ap.ref_slope_q8 = 0;
+  ap.full_bins = on;
+  ap.duty_avg_q16 = 0;
+  ap.settled_bins = 0;
+  ap.near_bins = 0;
   enter(Phase::kApproach);
   duty_q16_ = heater_on_ ? kFull : 0;
   heater_on_ = false;
@@ -625,7 +626,7 @@ void Autotune::extend_timeout() {
 void Autotune::set_approach_gain() {
   const uint8_t tau = static_cast<uint8_t>(horizon_bins_ < 3 ? 3 : horizon_bins_ + horizon_bins_ / 4);
   const uint32_t g = (uint32_t{1} << 24) / (static_cast<uint32_t>(slope_q8_) * tau);
-  gain_q8_ = static_cast<int32_t>(g > 40000 ? 40000 : g);
+  appr_.gain_q8 = static_cast<int32_t>(g > 40000 ? 40000 : g);
 }
 
 // Untrusted model: the reading a bin ahead by its 4-bin trend over guard_bins_ (rising only).
@@ -675,6 +676,7 @@ int32_t Autotune::steady_from_model() const {
 // Every bin of the approach and the relay (their stage 1): the Smith predictor's model (a mul_q16
 // and a 32×16 multiply, no division); model_anchor (stage 2) anchors it to the reading.
 void Autotune::model_bin() {
+  Approach& ap = near(appr_);
   // Smith predictor: model x' = S·u − x/T (undelayed); prediction = reading + x(now) − x(now − L̂),
   // the heat in flight. The model is anchored to the reading (its delayed state pulled towards
   // it, a quarter per bin, by shifting the whole history through offset_q8_), so its loss term
@@ -686,23 +688,24 @@ void Autotune::model_bin() {
   duty_ring_[ring_head_] = static_cast<uint8_t>(last_bin_duty_q8_ > 255 ? 255 : last_bin_duty_q8_);
   ring_head_ = static_cast<uint8_t>((ring_head_ + 1) % kRingBins);
   // Bins the duty has stayed within ±8 % of where this stretch began.
-  if (abs32(static_cast<int32_t>(last_bin_duty_q8_) - steady_ref_) < 20) {
-    if (steady_bins_ < 250) ++steady_bins_;
+  if (abs32(static_cast<int32_t>(last_bin_duty_q8_) - ap.steady_ref) < 20) {
+    if (ap.steady_bins < 250) ++ap.steady_bins;
   } else {
-    steady_ref_ = static_cast<int16_t>(last_bin_duty_q8_);
-    steady_bins_ = 0;
+    ap.steady_ref = static_cast<int16_t>(last_bin_duty_q8_);
+    ap.steady_bins = 0;
   }
 }
 
 // The stage after model_bin: the pre-approach history entry about to be read, and the anchor.
 // One mul_q16.
 void Autotune::model_anchor() {
-  if (fill_j_ > 0) {
+  Approach& ap = near(appr_);
+  if (ap.fill_j > 0) {
     // The pre-approach history entry read below (L̂ bins ago), one recursion step per bin.
-    --fill_j_;
-    fill_x_q8_ += (fill_j_ < fill_on_ ? slope_q8_ : 0) - fixed::mul_q16(fill_x_q8_, fill_a_q16_);
-    ring_[(fill_head_ + kRingBins - 1 - fill_j_) % kRingBins] =
-        static_cast<int16_t>(fixed::clamp(div2n<4>(fill_x_q8_), int32_t{-32000}, int32_t{32000}));
+    --ap.fill_j;
+    ap.fill_x_q8 += (ap.fill_j < ap.fill_on ? slope_q8_ : 0) - fixed::mul_q16(ap.fill_x_q8, ap.fill_a_q16);
+    ring_[(ap.fill_head + kRingBins - 1 - ap.fill_j) % kRingBins] =
+        static_cast<int16_t>(fixed::clamp(div2n<4>(ap.fill_x_q8), int32_t{-32000}, int32_t{32000}));
   }
   const int32_t anchor = div2n<2>(y_bin_q8_ - ambient_q8_ - model_ago(horizon_bins_));
   offset_q8_ += anchor;
@@ -713,6 +716,7 @@ void Autotune::model_anchor() {
 }
 
 uint8_t Autotune::approach_stage(uint8_t stage) {
+  Approach& ap = near(appr_);
   const int32_t rise = y_bin_q8_ - ambient_q8_;
   switch (stage) {
     case 1:
@@ -727,7 +731,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // This keeps the model's steady state on the real one, so the predictor holds the target
       // exactly. Only while the duty has been steady (within 8 %) over L̂ + 6 bins: in transients
       // a dead time that is off by a bin would pass for a loss error.
-      if (full_bins_ == 0 && rise > 20 * kQ8 && steady_bins_ >= horizon_bins_ + 6) {
+      if (ap.full_bins == 0 && rise > 20 * kQ8 && ap.steady_bins >= horizon_bins_ + 6) {
         const int32_t s4 = div2n<2>(y_bin_q8_ - y_hist_q8_[3]);
         const int32_t centre = rise - 2 * s4;
         const int32_t model_slope = static_cast<int32_t>((static_cast<uint32_t>(slope_q8_) * duty_ago(horizon_bins_ + 2) + 128) >> 8) -
@@ -742,17 +746,17 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // Loss learning while at full power (the slope falls as the loss grows): 1/T = Δslope/Δrise
       // between a reference 4-bin slope taken once the heat-up runs at full power and the latest,
       // over at least 40 °C (the same estimator at both ends: no bias from taking a maximum).
-      full_bins_ = last_bin_duty_q8_ >= 255 ? static_cast<uint8_t>(full_bins_ < 250 ? full_bins_ + 1 : 250) : 0;
-      if (full_bins_ > horizon_bins_ + 4) {
+      ap.full_bins = last_bin_duty_q8_ >= 255 ? static_cast<uint8_t>(ap.full_bins < 250 ? ap.full_bins + 1 : 250) : 0;
+      if (ap.full_bins > horizon_bins_ + 4) {
         const int32_t s4 = div2n<2>(y_bin_q8_ - y_hist_q8_[3]);
         const int32_t at = rise - 2 * s4;  // rise at the window's centre
-        if (ref_slope_q8_ == 0) {
-          ref_slope_q8_ = s4 > 0 ? s4 : 1;
-          ref_rise_q8_ = at;
-        } else if (at - ref_rise_q8_ > 40 * kQ8 && s4 < ref_slope_q8_) {
+        if (ap.ref_slope_q8 == 0) {
+          ap.ref_slope_q8 = s4 > 0 ? s4 : 1;
+          ap.ref_rise_q8 = at;
+        } else if (at - ap.ref_rise_q8 > 40 * kQ8 && s4 < ap.ref_slope_q8) {
           // ref_slope − s4 ≤ a full-power slope per bin (< 2^15 for < 128 °C/s) × 2^16 < 2^31.
-          const uint32_t ds = static_cast<uint32_t>(ref_slope_q8_ - s4);
-          const uint32_t inv_t = ((ds > 32767 ? 32767 : ds) << 16) / static_cast<uint32_t>(at - ref_rise_q8_);
+          const uint32_t ds = static_cast<uint32_t>(ap.ref_slope_q8 - s4);
+          const uint32_t inv_t = ((ds > 32767 ? 32767 : ds) << 16) / static_cast<uint32_t>(at - ap.ref_rise_q8);
           inv_t_q16_ = static_cast<uint16_t>(inv_t > 16384 ? 16384 : inv_t);
         }
         // A probe cut short while the lags were still filling (a hot start has little room
@@ -771,7 +775,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       set_approach_gain();
       return 5;
     case 5:
-      steady_q16_ = steady_from_model();
+      ap.steady_q16 = steady_from_model();
       return 6;
     case 6: {
       const int32_t predicted = y_bin_q8_ + model_ago(0) - model_ago(horizon_bins_);
@@ -782,29 +786,29 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         const int32_t guard = target_q8_ - trend_q8();
         if (guard < ex) ex = guard;
       }
-      const int32_t u = steady_q16_ + ((ex * gain_q8_) >> 8);  // |ex·gain| ≤ 51,200 · 40,000 < 2^31
+      const int32_t u = ap.steady_q16 + ((ex * ap.gain_q8) >> 8);  // |ex·gain| ≤ 51,200 · 40,000 < 2^31
       duty_q16_ = clamp_duty(u);
       // The fan hold on an untrusted model, as its relay (guard_off_: seed000 at σ 0.3 °C reached
       // S + 5.3 without).
-      if (hold_bins_ != 0 && guard_off_) duty_q16_ = 0;
-      duty_avg_q16_ += div2n<2>(static_cast<int32_t>(duty_q16_) - duty_avg_q16_);
+      if (ap.hold_bins != 0 && guard_off_) duty_q16_ = 0;
+      ap.duty_avg_q16 += div2n<2>(static_cast<int32_t>(duty_q16_) - ap.duty_avg_q16);
       // (An untrusted model's P law may stall short of the target: the relay takes over nearer.)
-      settled_bins_ = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? 4 * kSettleBandQ8 : kSettleBandQ8)
-                          ? static_cast<uint8_t>(settled_bins_ + 1)
+      ap.settled_bins = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? 4 * kSettleBandQ8 : kSettleBandQ8)
+                          ? static_cast<uint8_t>(ap.settled_bins + 1)
                           : 0;
       // A P law on a slightly wrong loss stalls short of the target, and the loss learning's
       // resolution (≈ 0.02 °C/bin of slope) may not move it (heavy-slow in simavr: 209.0 °C for
       // an hour). Within 2 °C for 3 (L̂ + 2) bins is near enough: the relay's bias takes over.
-      near_bins_ = abs32(target_q8_ - y_bin_q8_) < 4 * kSettleBandQ8 ? static_cast<uint8_t>(near_bins_ < 255 ? near_bins_ + 1 : 255) : 0;
+      ap.near_bins = abs32(target_q8_ - y_bin_q8_) < 4 * kSettleBandQ8 ? static_cast<uint8_t>(ap.near_bins < 255 ? ap.near_bins + 1 : 255) : 0;
       // Crossings of the target (±0.3 °C): a slow hotend that the approach leaves swinging around
       // it goes to the relay at the second crossing, whose bias adaptation takes over.
       const int8_t side = y_bin_q8_ > target_q8_ + kQ8 * 3 / 10 ? 1 : (y_bin_q8_ < target_q8_ - kQ8 * 3 / 10 ? -1 : 0);
-      if (side != 0 && side != side_) {
-        if (side_ != 0) ++crossings_;
-        side_ = side;
+      if (side != 0 && side != ap.side) {
+        if (ap.side != 0) ++ap.crossings;
+        ap.side = side;
       }
-      if (hold_bins_ != 0) {
-        if (++hold_bins_ <= hold_len_) return 0;
+      if (ap.hold_bins != 0) {
+        if (++ap.hold_bins <= ap.hold_len) return 0;
         pending_q8_ = y_bin_q8_ - pending_q8_;  // the hold's drift (compute)
         fan_ = 0;
         duty_q16_ = 0;
@@ -812,7 +816,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         enter(Phase::kCompute);
         return 0;
       }
-      return settled_bins_ >= horizon_bins_ + 2 || near_bins_ >= 3 * (horizon_bins_ + 2) || crossings_ >= 2 ? 7 : 0;
+      return ap.settled_bins >= horizon_bins_ + 2 || ap.near_bins >= 3 * (horizon_bins_ + 2) || ap.crossings >= 2 ? 7 : 0;
     }
     default: {
       if (fan_pending_) {
@@ -820,16 +824,16 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         // the mean duty, instead of relay cycles (each ≥ 4 L̂ on a dead-time hotend): (C + 1)/2
         // × (L̂ + 2 bins), ≤ 255 bins (≤ 21 × 72).
         const uint16_t len = static_cast<uint16_t>(((cycles_ + 1u) >> 1) * (horizon_bins_ + 2u));
-        hold_len_ = static_cast<uint8_t>(len > 255 ? 255 : len);
-        hold_bins_ = 1;
+        ap.hold_len = static_cast<uint8_t>(len > 255 ? 255 : len);
+        ap.hold_bins = 1;
         pending_q8_ = y_bin_q8_;  // its first bin, for its drift
         return 0;
       }
-      crossings_ = 0;
-      side_ = 0;
+      ap.crossings = 0;
+      ap.side = 0;
       // Relay around the smoothed duty; d for ±1.5 °C by the probe's model (in-flight rise per
       // unit duty ≈ S·L̂ bounds the FOPDT excursion K·d·(1 − e^(−L/T))): 384·2^16 < 2^25.
-      bias_q16_ = clamp_duty(duty_avg_q16_);
+      bias_q16_ = clamp_duty(ap.duty_avg_q16);
       d_q16_ = clamp_step((static_cast<uint32_t>(kAmplitudeQ8) << 16) / (static_cast<uint32_t>(slope_q8_) * horizon_bins_));
       relay_hi_ = y_bin_q8_ < target_q8_;
       half_ticks_ = 0;
@@ -1022,9 +1026,9 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
       // on slow hotends; the hold then measures the real figure. inv_t·26214 < 2^31.
       inv_t_q16_ = static_cast<uint16_t>(fixed::sat_u16(static_cast<int32_t>(
           inv_t_q16_ + ((uint32_t{inv_t_q16_} * 26214u) >> 16))));
-      settled_bins_ = 0;
-      near_bins_ = 0;
-      full_bins_ = 0;
+      appr_.settled_bins = 0;
+      appr_.near_bins = 0;
+      appr_.full_bins = 0;
       enter(Phase::kApproach);
     } else {
       fan_ = 0;
@@ -1064,7 +1068,7 @@ bool Autotune::compute_chunk() {
       // T·ẏ = Δ · 2^16 / (span · 1/T): |Δ| clamped to 2^13, × 2^16 < 2^30; span < 2^13 bins ×
       // 1/T ≤ 2^14 < 2^27 (≥ 1, else no correction).
       const int32_t d = part == 0 ? v.a_lo : pending_q8_;
-      const uint32_t den = static_cast<uint32_t>(part == 0 ? v.a_hi : hold_len_) * (part == 0 ? inv_t_nofan_q16_ : inv_t_q16_);
+      const uint32_t den = static_cast<uint32_t>(part == 0 ? v.a_hi : appr_.hold_len) * (part == 0 ? inv_t_nofan_q16_ : inv_t_q16_);
       const uint32_t c = static_cast<int32_t>(den) > 0 ? (static_cast<uint32_t>(abs32(d) > 8192 ? 8192 : abs32(d)) << 16) / den : 0;
       v.a_hi = static_cast<int32_t>(c > 8192 ? 8192 : c);
       if (d < 0) v.a_hi = -v.a_hi;

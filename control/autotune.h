@@ -274,21 +274,30 @@ class Autotune {
 
   // Model for the approach.
   int32_t horizon_ticks_ = 0;   // L̂
-  int32_t gain_q8_ = 0;         // approach P gain: duty_q16 per temp_q8, × 256
-  int32_t steady_q16_ = 0;      // ū: steady duty estimate (integral part)
-  uint8_t settled_bins_ = 0;
-  uint8_t near_bins_ = 0;       // bins within 2 °C of the target (a stalled approach)
-  int32_t ref_rise_q8_ = 0;
-  int32_t ref_slope_q8_ = 0;     // loss learning: rise where the slope S was measured
-  uint8_t full_bins_ = 0;       // consecutive bins at 100 % in the approach
-  int32_t duty_avg_q16_ = 0;    // smoothed approach duty (relay bias)
+  struct Approach {  // reached through near() where used most
+    int32_t gain_q8;         // approach P gain: duty_q16 per temp_q8, × 256
+    int32_t steady_q16;      // ū: steady duty estimate (integral part)
+    uint8_t settled_bins;
+    uint8_t near_bins;       // bins within 2 °C of the target (a stalled approach)
+    int32_t ref_rise_q8;
+    int32_t ref_slope_q8;     // loss learning: rise where the slope S was measured
+    uint8_t full_bins;       // consecutive bins at 100 % in the approach
+    int32_t duty_avg_q16;    // smoothed approach duty (relay bias)
+    int32_t fill_x_q8;
+    uint8_t fill_j;          // entries j ≥ fill_j_ written
+    uint8_t fill_on;         // the last fill_on_ bins were at full power
+    uint16_t fill_a_q16;     // 1/T the history runs with
+    uint8_t fill_head;       // ring_head_ when the approach began
+    uint8_t hold_bins;       // bins into the fan hold + 1 (0: not holding)
+    uint8_t hold_len;        // its length in bins
+    uint8_t crossings;
+    uint8_t steady_bins;     // bins the duty has stayed near steady_ref_
+    int16_t steady_ref;
+    int8_t side;
+  };
+  Approach appr_ = {};
   // The model's history before the approach, generated one entry per bin as it is first read
   // (instead of all L̂ entries at once): entry j bins before the approach began.
-  int32_t fill_x_q8_ = 0;
-  uint8_t fill_j_ = 0;          // entries j ≥ fill_j_ written
-  uint8_t fill_on_ = 0;         // the last fill_on_ bins were at full power
-  uint16_t fill_a_q16_ = 0;     // 1/T the history runs with
-  uint8_t fill_head_ = 0;       // ring_head_ when the approach began
   int32_t pending_q8_ = 0;      // a value carried from one stage to the next (the fan hold: its
                                 // first bin mean, for its drift)
   // The probe's model cannot be trusted (cut-to-peak time beyond the history, or no clean peak):
@@ -309,8 +318,6 @@ class Autotune {
   uint8_t cycle_index_ = 0;     // completed cycles in the current (fan or no-fan) part
   bool fan_pending_ = false;     // the fan is on: the approach ends in the fan hold
   uint8_t nofan_measure_ = 0;
-  uint8_t hold_bins_ = 0;       // bins into the fan hold + 1 (0: not holding)
-  uint8_t hold_len_ = 0;        // its length in bins
   uint16_t inv_t_nofan_q16_ = 0;  // 1/T before the fan came on
   bool started_cycle_ = false;
   int32_t sum_dev_[2] = {};     // Σ (y − target) per tick over measured cycles, [0] no fan, [1] fan
@@ -324,10 +331,6 @@ class Autotune {
 
   // Compute.
   uint8_t compute_step_ = 0;
-  uint8_t crossings_ = 0;
-  uint8_t steady_bins_ = 0;     // bins the duty has stayed near steady_ref_
-  int16_t steady_ref_ = 0;
-  int8_t side_ = 0;
   uint8_t overruns_ = 0;        // bins whose stages were not done before the next (tests: 0)
 
   int16_t ring_[kRingBins] = {};  // Smith predictor: model's undelayed rise per bin − offset, °C × 16

@@ -189,7 +189,7 @@ class Autotune {
   uint16_t inv_t_q16_ = 0;      // loss rate 1/T per bin, Q16
   uint8_t horizon_bins_ = 0;
   int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)
-  int32_t offset_q8_ = 0;
+  int32_t horizon_ticks_ = 0;   // L̂
   int32_t target_q8_ = 0;
   int32_t ambient_q8_ = 0;  // (kDefaultAmbientQ8 from start() unless measured or given)
   uint16_t bin_duty_sum_ = 0;  // Σ duty q8 over the bin (≤ 8·256)
@@ -273,7 +273,7 @@ class Autotune {
   uint16_t noise_q8_ = 0;
 
   // Model for the approach.
-  int32_t horizon_ticks_ = 0;   // L̂
+  int32_t offset_q8_ = 0;
   struct Approach {  // reached through near() where used most
     int32_t gain_q8;         // approach P gain: duty_q16 per temp_q8, × 256
     int32_t steady_q16;      // ū: steady duty estimate (integral part)

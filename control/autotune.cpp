@@ -243,8 +243,8 @@ AutotuneOutput Autotune::step(int32_t y) {
     case Phase::kProbe:
       ++probe_ticks_;
       if (heater_on_) {
-        ++on_ticks_;
-        if (on_ticks_ >= probe_.cap_ticks && !(probe_.detected && probe_.extend)) {
+        ++probe_.on_ticks;
+        if (probe_.on_ticks >= probe_.cap_ticks && !(probe_.detected && probe_.extend)) {
           heater_on_ = false;
           probe_.off_tick = probe_ticks_;
         }
@@ -397,7 +397,7 @@ void Autotune::start_probe() {
   Probe& p = near(probe_);
   enter(Phase::kProbe);
   probe_ticks_ = 0;
-  on_ticks_ = 0;
+  p.on_ticks = 0;
   heater_on_ = true;
   p.extend = false;
   p.detected = false;
@@ -439,7 +439,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
   if (stage == 4) {
     // S: the steepest slope of the response, or the whole rise over the pulse when the pulse was
     // too short for a clean slope.
-    pending_q8_ = p.dev_peak_q8 * kTicksPerBin / (on_ticks_ > 0 ? on_ticks_ : 1);
+    pending_q8_ = p.dev_peak_q8 * kTicksPerBin / (p.on_ticks > 0 ? p.on_ticks : 1);
     return 5;
   }
   if (stage == 5) {
@@ -447,7 +447,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     // Undo it with x/(1 − e^(−x)) ≈ 1 + x/2 + x²/12 (x ≤ 2, Q16: x² as (x/16)²/256 < 2^27;
     // ÷12 as ·5461/2^16). Else S is ~10 % low on FOPDT hotends, ū ~10 % high, and the approach
     // overshoots by that share of the rise until the loss is re-learnt.
-    uint32_t x = (uint32_t{on_ticks_} * inv_t_q16_) >> 3;  // ≤ 2^16 · 2^14
+    uint32_t x = (uint32_t{p.on_ticks} * inv_t_q16_) >> 3;  // ≤ 2^16 · 2^14
     if (x > 131072) x = 131072;
     const uint32_t x16 = x >> 4;
     const uint32_t factor = 65536 + x / 2 + ((((x16 * x16) >> 8) * 5461u) >> 16);
@@ -495,15 +495,15 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     // go on heating under the approach's predictor, without a cut.
     const int32_t horizon = 2 * p.det_bin + 4;
     const bool steepening = k - p.slope_max_bin < 3 || k < p.det_bin + 3;
-    const bool safe = y_bin_q8_ + slope * horizon < target_q8_ - 10 * kQ8 && on_ticks_ < t40_;
+    const bool safe = y_bin_q8_ + slope * horizon < target_q8_ - 10 * kQ8 && p.on_ticks < t40_;
     p.extend = steepening && safe;
-    if (!p.extend && p.slope_max_q8 > 0 && (on_ticks_ >= p.cap_ticks || !steepening)) {
+    if (!p.extend && p.slope_max_q8 > 0 && (p.on_ticks >= p.cap_ticks || !steepening)) {
       p.continuous = true;
       p.extend = true;  // the heater stays on through the hand-over stages
       p.slope_rise_q8 = p.slope_max_dev_q8 + p.base_rise_q8;
       slope_q8_ = p.slope_max_q8;
       inv_t_q16_ = p.base_rate_q16;  // a hot start's decay is the loss rate; cold: learnt at full power
-      appr_.full_bins = static_cast<uint8_t>(on_ticks_ / kTicksPerBin > 250 ? 250 : on_ticks_ / kTicksPerBin);
+      appr_.full_bins = static_cast<uint8_t>(p.on_ticks / kTicksPerBin > 250 ? 250 : p.on_ticks / kTicksPerBin);
       return 2;
     }
     return 0;
@@ -1191,7 +1191,7 @@ bool Autotune::compute_chunk() {
       }
       return false;
     case 4:
-      // A cut probe is a full-power pulse of p = on_ticks_ from a steady baseline; an FOPDT's
+      // A cut probe is a full-power pulse of p = probe_.on_ticks ticks from a steady baseline; an FOPDT's
       // response to it peaks (at D + p) at h = A·(1 − e^(−p/C)), so C = p / ln(A/(A − h)), with A
       // from the relay (≈ 0.1 %): accurate where the relay's asymmetric formulas scatter by
       // ±2.5 % at σ 0.1 °C. Here ln(A/(A − h)) as log2 (A < 2^19, A − h ≥ 1).
@@ -1205,7 +1205,7 @@ bool Autotune::compute_chunk() {
       // C = p·2^16 / ln (p ≤ 6 s: < 2^11 in q8); a C over 2^23 (no FOPDT hotend) counts as none.
       v.lambda = 0;
       if (v.ln > 0) {
-        const uint32_t c = div_q16(static_cast<uint32_t>(seconds_q8(on_ticks_)),
+        const uint32_t c = div_q16(static_cast<uint32_t>(seconds_q8(probe_.on_ticks)),
                                    static_cast<uint32_t>(fixed_math::ln_from_log2_q16(v.ln)));
         v.lambda = c < (uint32_t{1} << 23) ? static_cast<int32_t>(c) : 0;
       }

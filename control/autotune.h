@@ -209,7 +209,6 @@ class Autotune {
   int32_t bin_sum_q8_ = 0;
   uint32_t tick_ = 0;
   uint16_t probe_ticks_ = 0;
-  uint16_t on_ticks_ = 0;
   uint16_t bins_ = 0;          // completed bins in this phase
 
   // Configuration.
@@ -234,6 +233,7 @@ class Autotune {
   struct Probe {  // reached through near() where used most
     int32_t base_rise_q8;   // predicted baseline, relative to ambient
     uint16_t base_rate_q16;  // baseline decay per bin, Q16 (hot start)
+    uint16_t on_ticks;
     uint16_t cap_ticks;     // energy cap of the probe's pulse
     uint16_t off_tick;      // tick (since probe start) the pulse ended
     bool extend;        // pulse extended past the cap (response seen, still steepening)
@@ -284,14 +284,14 @@ class Autotune {
     uint8_t full_bins;       // consecutive bins at 100 % in the approach
     int32_t duty_avg_q16;    // smoothed approach duty (relay bias)
     int32_t fill_x_q8;
-    uint8_t fill_j;          // entries j ≥ fill_j_ written
-    uint8_t fill_on;         // the last fill_on_ bins were at full power
+    uint8_t fill_j;          // entries j ≥ fill_j written
+    uint8_t fill_on;         // the last fill_on bins were at full power
     uint16_t fill_a_q16;     // 1/T the history runs with
     uint8_t fill_head;       // ring_head_ when the approach began
     uint8_t hold_bins;       // bins into the fan hold + 1 (0: not holding)
     uint8_t hold_len;        // its length in bins
     uint8_t crossings;
-    uint8_t steady_bins;     // bins the duty has stayed near steady_ref_
+    uint8_t steady_bins;     // bins the duty has stayed near steady_ref
     int16_t steady_ref;
     int8_t side;
   };

@@ -69,6 +69,14 @@ __attribute__((noinline)) int32_t abs32(int32_t x) { return x < 0 ? -x : x; }
 // power-of-two constant into a library division (≈ 650 cycles); this is a few shifts.
 template <uint8_t n> __attribute__((noinline)) int32_t div2n(int32_t x) { return x < 0 ? -(-x >> n) : x >> n; }
 
+// A member far into the object (offset > 63) costs avr-gcc pointer arithmetic on every access;
+// a pointer to its struct hidden from the optimiser is loaded once and then reached with LDD.
+template <typename T> T& near(T& x) {
+  T* p = &x;
+  asm("" : "+r"(p));
+  return *p;
+}
+
 __attribute__((noinline)) uint16_t clamp_duty(int32_t x) { return fixed::sat_u16(x); }
 
 __attribute__((noinline)) uint16_t clamp_step(uint32_t d) {
@@ -217,7 +225,7 @@ AutotuneOutput Autotune::step(int32_t y) {
     start_q8_ = y;
     for (int32_t& v : yf_ring_) v = y;
   }
-  if (phase_ == Phase::kBaseline || phase_ == Phase::kCool || (phase_ == Phase::kProbe && !detected_)) {
+  if (phase_ == Phase::kBaseline || phase_ == Phase::kCool || (phase_ == Phase::kProbe && !probe_.detected)) {
     measure_noise(y);
   }
   // Filter for the relay: mean of the last 4 readings (σ halves; 1.5 periods of delay).
@@ -235,23 +243,23 @@ AutotuneOutput Autotune::step(int32_t y) {
     case Phase::kProbe:
       ++probe_ticks_;
       if (heater_on_) {
-        ++on_ticks_;
-        if (on_ticks_ >= cap_ticks_ && !(detected_ && extend_)) {
+        ++probe_.on_ticks;
+        if (probe_.on_ticks >= probe_.cap_ticks && !(probe_.detected && probe_.extend)) {
           heater_on_ = false;
-          off_tick_ = probe_ticks_;
+          probe_.off_tick = probe_ticks_;
         }
       }
       // Between the decision and the approach (begin stages) the pulse goes on as it was.
       duty_q16_ = heater_on_ ? kFull : 0;
       // The highest single reading after the cut: the FOPDT response's sharp peak, which a bin
       // mean rounds off by up to ~4 % of its height (seed002: rising 16 °C/s, falling 2.6).
-      if (!heater_on_ && !peaked_ && y > probe_max_q8_) probe_max_q8_ = y;
+      if (!heater_on_ && !probe_.peaked && y > probe_max_q8_) probe_max_q8_ = y;
       break;
     case Phase::kRelay:
       ended = relay_tick(yf, y);
       break;
     case Phase::kApproach:
-      if (hold_bins_ != 0) {
+      if (appr_.hold_bins != 0) {
         // The fan hold: its mean rise over its mean duty is the gain with the fan (compute).
         sum_dev_[1] += y - target_q8_;  // |y − target| < 2^14 per tick, ≤ 2^16 ticks
         sum_duty_[1] += duty_q16_ >> 4;
@@ -284,7 +292,7 @@ AutotuneOutput Autotune::step(int32_t y) {
       probe_pending_ = false;
       // A cold hotend's baseline over the last 4 bins (σ halved on a noisy sensor); a hot one
       // decays by up to ~1 °C a bin: its last bin.
-      base_rise_q8_ = (hot_start_ || retries_ != 0 ? y_bin_q8_ : div2n<2>(y_bin_q8_ + y_hist_q8_[0] + y_hist_q8_[1] + y_hist_q8_[2] + 2)) -
+      probe_.base_rise_q8 = (hot_start_ || probe_.retries != 0 ? y_bin_q8_ : div2n<2>(y_bin_q8_ + y_hist_q8_[0] + y_hist_q8_[1] + y_hist_q8_[2] + 2)) -
                       ambient_q8_;
       start_probe();
       stage_ = 0;
@@ -365,13 +373,13 @@ uint8_t Autotune::baseline_stage(uint8_t stage) {
   }
   if (stage == 2) {
     // Decay rate of a hot start: −slope/rise per bin, Q16 (−slope clamped < 2^15: fits).
-    base_rate_q16_ = 0;
+    probe_.base_rate_q16 = 0;
     const int32_t slope = pending_q8_;
     if (hot_start_ && slope < 0 && rise > 10 * kQ8) {
       const uint32_t ds = static_cast<uint32_t>(-slope > 32767 ? 32767 : -slope);
-      base_rate_q16_ = clamp_duty(static_cast<int32_t>((ds << 16) / static_cast<uint32_t>(rise)));
+      probe_.base_rate_q16 = clamp_duty(static_cast<int32_t>((ds << 16) / static_cast<uint32_t>(rise)));
     }
-    base_rise_q8_ = rise;
+    probe_.base_rise_q8 = rise;
     return 3;
   }
   // First pulse: at most 40 % of the headroom at an assumed 20 °C/s, and 6 s:
@@ -380,24 +388,25 @@ uint8_t Autotune::baseline_stage(uint8_t stage) {
   const uint32_t den = static_cast<uint32_t>(5 * kAssumedSlopeQ8PerS) * period_ms_;
   const uint32_t cap = (static_cast<uint32_t>(room > 0 ? room : 0) * 2000u + den / 2) / den;
   const uint32_t max_cap = t6_;
-  cap_ticks_ = static_cast<uint16_t>(cap > max_cap ? max_cap : (cap < 1 ? 1 : cap));
+  probe_.cap_ticks = static_cast<uint16_t>(cap > max_cap ? max_cap : (cap < 1 ? 1 : cap));
   probe_pending_ = true;
   return 0;
 }
 
 void Autotune::start_probe() {
+  Probe& p = near(probe_);
   enter(Phase::kProbe);
   probe_ticks_ = 0;
-  on_ticks_ = 0;
+  p.on_ticks = 0;
   heater_on_ = true;
-  extend_ = false;
-  detected_ = false;
-  peaked_ = false;
-  dev_q8_ = dev_prev_q8_ = dev_prev2_q8_ = 0;
-  slope_max_q8_ = 0;
-  slope_max_bin_ = 0;
-  dev_peak_q8_ = INT32_MIN;
-  slope_rise_q8_ = INT32_MIN;  // the smoothed peak until the probe takes the tangent path
+  p.extend = false;
+  p.detected = false;
+  p.peaked = false;
+  p.dev_q8 = p.dev_prev_q8 = p.dev_prev2_q8 = 0;
+  p.slope_max_q8 = 0;
+  p.slope_max_bin = 0;
+  p.dev_peak_q8 = INT32_MIN;
+  p.slope_rise_q8 = INT32_MIN;  // the smoothed peak until the probe takes the tangent path
   probe_max_q8_ = INT32_MIN;
   duty_q16_ = kFull;
 }
@@ -405,22 +414,23 @@ void Autotune::start_probe() {
 // Stage 1 is the probe's bin logic; 2 (tangent) or 3–4 (after the peak) finish its model, then
 // the hand-over stages 20–22.
 uint8_t Autotune::probe_stage(uint8_t stage) {
+  Probe& p = near(probe_);
   if (stage == 2) {
     // Tangent dead time: L = t − rise/S at the steepest point (one division).
-    horizon_ticks_ = max_centre_tick_ - slope_max_dev_q8_ * kTicksPerBin / slope_q8_;
+    horizon_ticks_ = p.max_centre_tick - p.slope_max_dev_q8 * kTicksPerBin / slope_q8_;
     return 20;
   }
   const uint16_t k = bins_;  // bin k covers probe ticks (8(k − 1), 8k]
   if (stage == 3) {
     // Loss rate from the decay after the peak: drop / (mid rise · bins), Q16 (drop < 2^15).
-    const int32_t drop = y_peak_q8_ - y_bin_q8_;
-    const int32_t mid_rise = div2n<1>(y_peak_q8_ + y_bin_q8_) - ambient_q8_;
+    const int32_t drop = p.y_peak_q8 - y_bin_q8_;
+    const int32_t mid_rise = div2n<1>(p.y_peak_q8 + y_bin_q8_) - ambient_q8_;
     uint32_t inv_t = 0;
     // A drop under 1 °C (or 4 σ of a noisy reading: the highest bin is itself lifted by the noise)
     // is noise: loss unknown (learnt during the heat-up).
     if (drop > noise_floor(kQ8, kLossDropSigmaQ4) && mid_rise > kQ8) {
       const uint32_t num = static_cast<uint32_t>(drop > 32767 ? 32767 : drop) << 16;
-      const uint32_t den = static_cast<uint32_t>(mid_rise) * static_cast<uint32_t>(k - peak_bin_);
+      const uint32_t den = static_cast<uint32_t>(mid_rise) * static_cast<uint32_t>(k - p.peak_bin);
       inv_t = (num + den / 2) / den;
     }
     inv_t_q16_ = static_cast<uint16_t>(inv_t > 16384 ? 16384 : inv_t);
@@ -429,7 +439,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
   if (stage == 4) {
     // S: the steepest slope of the response, or the whole rise over the pulse when the pulse was
     // too short for a clean slope.
-    pending_q8_ = dev_peak_q8_ * kTicksPerBin / (on_ticks_ > 0 ? on_ticks_ : 1);
+    pending_q8_ = p.dev_peak_q8 * kTicksPerBin / (p.on_ticks > 0 ? p.on_ticks : 1);
     return 5;
   }
   if (stage == 5) {
@@ -437,15 +447,15 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     // Undo it with x/(1 − e^(−x)) ≈ 1 + x/2 + x²/12 (x ≤ 2, Q16: x² as (x/16)²/256 < 2^27;
     // ÷12 as ·5461/2^16). Else S is ~10 % low on FOPDT hotends, ū ~10 % high, and the approach
     // overshoots by that share of the rise until the loss is re-learnt.
-    uint32_t x = (uint32_t{on_ticks_} * inv_t_q16_) >> 3;  // ≤ 2^16 · 2^14
+    uint32_t x = (uint32_t{p.on_ticks} * inv_t_q16_) >> 3;  // ≤ 2^16 · 2^14
     if (x > 131072) x = 131072;
     const uint32_t x16 = x >> 4;
     const uint32_t factor = 65536 + x / 2 + ((((x16 * x16) >> 8) * 5461u) >> 16);
     const int32_t s = fixed::mul_round(pending_q8_, fixed::Multiplier{factor >> 16, static_cast<uint16_t>(factor)});
-    slope_q8_ = s < slope_max_q8_ ? slope_max_q8_ : s;
-    full_bins_ = 0;
+    slope_q8_ = s < p.slope_max_q8 ? p.slope_max_q8 : s;
+    appr_.full_bins = 0;
     // Cut-to-peak time (the FOPDT's dead time): the peak is at the centre of the highest bin.
-    horizon_ticks_ = static_cast<int32_t>(peak_bin_) * kTicksPerBin - kTicksPerBin / 2 - static_cast<int32_t>(off_tick_);
+    horizon_ticks_ = static_cast<int32_t>(p.peak_bin) * kTicksPerBin - kTicksPerBin / 2 - static_cast<int32_t>(p.off_tick);
     // The pulse's peak height above a steady baseline (compute: C from it); 0 when the baseline
     // was not steady (hot start: decaying; a retry: the earlier pulses' tails). A sharp peak
     // (fast FOPDT) is the highest reading: the bins round it off by more than 3 σ, and few
@@ -453,98 +463,99 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     // 3 σ of it; slow hotends: many readings near the top, whose highest is lifted by ~2 σ, and
     // the measured σ reads ~10 % low) is the highest bin (σ/√8). The max is a real reading here
     // (the cut path has readings between the cut and the peak), so the subtraction cannot wrap.
-    probe_max_q8_ -= ambient_q8_ + base_rise_q8_;
-    if (dev_peak_q8_ > probe_max_q8_ - 3 * static_cast<int32_t>(noise_q8_)) probe_max_q8_ = dev_peak_q8_;
-    if (hot_start_ || retries_ != 0) probe_max_q8_ = 0;
+    probe_max_q8_ -= ambient_q8_ + p.base_rise_q8;
+    if (p.dev_peak_q8 > probe_max_q8_ - 3 * static_cast<int32_t>(noise_q8_)) probe_max_q8_ = p.dev_peak_q8;
+    if (hot_start_ || p.retries != 0) probe_max_q8_ = 0;
     return 20;
   }
   // The baseline the hotend would follow without the probe (decaying when hot).
-  base_rise_q8_ -= fixed::mul_q16(base_rise_q8_, base_rate_q16_);
-  dev_prev2_q8_ = dev_prev_q8_;
-  dev_prev_q8_ = dev_q8_;
-  dev_q8_ = y_bin_q8_ - ambient_q8_ - base_rise_q8_;
-  if (!detected_ && dev_q8_ >= noise_floor(kDetectQ8, kDetectSigmaQ4)) {
-    detected_ = true;
-    det_bin_ = k;
+  p.base_rise_q8 -= fixed::mul_q16(p.base_rise_q8, p.base_rate_q16);
+  p.dev_prev2_q8 = p.dev_prev_q8;
+  p.dev_prev_q8 = p.dev_q8;
+  p.dev_q8 = y_bin_q8_ - ambient_q8_ - p.base_rise_q8;
+  if (!p.detected && p.dev_q8 >= noise_floor(kDetectQ8, kDetectSigmaQ4)) {
+    p.detected = true;
+    p.det_bin = k;
   }
   int32_t slope = 0;
   if (k >= 3) {
-    slope = div2n<1>(dev_q8_ - dev_prev2_q8_);  // centred on bin k − 1
-    if (slope > slope_max_q8_ + div2n<5>(slope_max_q8_)) slope_max_bin_ = k;
-    if (slope > slope_max_q8_) {
-      slope_max_q8_ = slope;
-      slope_max_dev_q8_ = dev_prev_q8_;
-      max_centre_tick_ = static_cast<int32_t>(k - 1) * kTicksPerBin - kTicksPerBin / 2;
+    slope = div2n<1>(p.dev_q8 - p.dev_prev2_q8);  // centred on bin k − 1
+    if (slope > p.slope_max_q8 + div2n<5>(p.slope_max_q8)) p.slope_max_bin = k;
+    if (slope > p.slope_max_q8) {
+      p.slope_max_q8 = slope;
+      p.slope_max_dev_q8 = p.dev_prev_q8;
+      p.max_centre_tick = static_cast<int32_t>(k - 1) * kTicksPerBin - kTicksPerBin / 2;
     }
   }
   if (heater_on_) {
-    if (!detected_) return 0;
+    if (!p.detected) return 0;
     // Still steepening (lags filling up): keep heating past the energy cap while, even at the
     // current slope over a generous horizon (2× the detection time + 4 s), it stays 10 °C
     // below the target. Once the slope is steady, S and the tangent's dead time are known:
     // go on heating under the approach's predictor, without a cut.
-    const int32_t horizon = 2 * det_bin_ + 4;
-    const bool steepening = k - slope_max_bin_ < 3 || k < det_bin_ + 3;
-    const bool safe = y_bin_q8_ + slope * horizon < target_q8_ - 10 * kQ8 && on_ticks_ < t40_;
-    extend_ = steepening && safe;
-    if (!extend_ && slope_max_q8_ > 0 && (on_ticks_ >= cap_ticks_ || !steepening)) {
-      continuous_ = true;
-      extend_ = true;  // the heater stays on through the hand-over stages
-      slope_rise_q8_ = slope_max_dev_q8_ + base_rise_q8_;
-      slope_q8_ = slope_max_q8_;
-      inv_t_q16_ = base_rate_q16_;  // a hot start's decay is the loss rate; cold: learnt at full power
-      full_bins_ = static_cast<uint8_t>(on_ticks_ / kTicksPerBin > 250 ? 250 : on_ticks_ / kTicksPerBin);
+    const int32_t horizon = 2 * p.det_bin + 4;
+    const bool steepening = k - p.slope_max_bin < 3 || k < p.det_bin + 3;
+    const bool safe = y_bin_q8_ + slope * horizon < target_q8_ - 10 * kQ8 && p.on_ticks < t40_;
+    p.extend = steepening && safe;
+    if (!p.extend && p.slope_max_q8 > 0 && (p.on_ticks >= p.cap_ticks || !steepening)) {
+      p.continuous = true;
+      p.extend = true;  // the heater stays on through the hand-over stages
+      p.slope_rise_q8 = p.slope_max_dev_q8 + p.base_rise_q8;
+      slope_q8_ = p.slope_max_q8;
+      inv_t_q16_ = p.base_rate_q16;  // a hot start's decay is the loss rate; cold: learnt at full power
+      appr_.full_bins = static_cast<uint8_t>(p.on_ticks / kTicksPerBin > 250 ? 250 : p.on_ticks / kTicksPerBin);
       return 2;
     }
     return 0;
   }
-  const uint16_t since_off = static_cast<uint16_t>(probe_ticks_ - off_tick_);
-  if (!detected_) {
+  const uint16_t since_off = static_cast<uint16_t>(probe_ticks_ - p.off_tick);
+  if (!p.detected) {
     if (since_off > t60_) {
       // Nothing in a minute: a weaker hotend than assumed (or a dead heater). A 4× longer
       // pulse is safe: the last one raised it by less than 0.5 °C.
-      if (++retries_ > 3) {
+      if (++p.retries > 3) {
         fail(AutotuneFailure::kNoHeating);
         return 0;
       }
-      cap_ticks_ = static_cast<uint16_t>(cap_ticks_ * 4);
-      base_rate_q16_ = 0;
+      p.cap_ticks = static_cast<uint16_t>(p.cap_ticks * 4);
+      p.base_rate_q16 = 0;
       probe_pending_ = true;
       heater_on_ = false;
     }
     return 0;
   }
-  if (!peaked_) {
+  if (!p.peaked) {
     // The peak (timing, height) is the highest bin, but it counts as past only once the
     // deviations smoothed 1-2-1 (bin noise × 0.6, each against its own bin's baseline) are 1/8 °C
     // below their own highest: a 1/16 °C drop on one bin (σ 0.07 °C per bin at σ = 0.2 °C
     // readings) passed for seed000-4's peak at 41 s (89–122 s at σ 0.1), a short dead time
     // that made its model trusted (S + 17.5 °C). Sum ≤ 4 · 2^17.
-    const int32_t dev_s = div2n<2>(dev_prev2_q8_ + 2 * dev_prev_q8_ + dev_q8_ + 2);
-    int32_t& smooth_peak_q8 = slope_rise_q8_;  // unused on this (the cut) path: no RAM of its own
+    const int32_t dev_s = div2n<2>(p.dev_prev2_q8 + 2 * p.dev_prev_q8 + p.dev_q8 + 2);
+    int32_t& smooth_peak_q8 = p.slope_rise_q8;  // unused on this (the cut) path: no RAM of its own
     if (dev_s > smooth_peak_q8) smooth_peak_q8 = dev_s;
-    if (dev_q8_ > dev_peak_q8_) {
-      dev_peak_q8_ = dev_q8_;
-      peak_bin_ = k;
-      y_peak_q8_ = y_bin_q8_;
-    } else if ((k - peak_bin_ >= 2 && dev_s < smooth_peak_q8 - noise_floor(kPeakDropQ8, kPeakDropSigmaQ4)) || since_off > t90_) {
+    if (p.dev_q8 > p.dev_peak_q8) {
+      p.dev_peak_q8 = p.dev_q8;
+      p.peak_bin = k;
+      p.y_peak_q8 = y_bin_q8_;
+    } else if ((k - p.peak_bin >= 2 && dev_s < smooth_peak_q8 - noise_floor(kPeakDropQ8, kPeakDropSigmaQ4)) || since_off > t90_) {
       // (after 90 s: a plateau, a near-integrating or very slow hotend: take the highest, and
       // do not trust the model it gives)
       if (since_off > t90_) untrusted_ = true;
-      peaked_ = true;
+      p.peaked = true;
     }
     return 0;
   }
   // Decay after the peak for a quarter of the cut-to-peak time (≥ 3 bins): the loss rate 1/T.
-  const int32_t peak_tick = static_cast<int32_t>(peak_bin_) * kTicksPerBin - kTicksPerBin / 2;
-  const int32_t quarter = (peak_tick - static_cast<int32_t>(off_tick_)) >> 5;  // ÷ (4·kTicksPerBin)
-  if (k - peak_bin_ < (quarter < 3 ? 3 : quarter)) return 0;
+  const int32_t peak_tick = static_cast<int32_t>(p.peak_bin) * kTicksPerBin - kTicksPerBin / 2;
+  const int32_t quarter = (peak_tick - static_cast<int32_t>(p.off_tick)) >> 5;  // ÷ (4·kTicksPerBin)
+  if (k - p.peak_bin < (quarter < 3 ? 3 : quarter)) return 0;
   return 3;
 }
 
 // Probe → approach hand-over, from S (slope_q8_), L̂ (horizon_ticks_), 1/T (inv_t_q16_) and the
-// bins at full power just before (full_bins_): 20 the gain, 21 the steady duty, 22 the model.
+// bins at full power just before (appr_.full_bins): 20 the gain, 21 the steady duty, 22 the model.
 uint8_t Autotune::begin_stage(uint8_t stage) {
+  Approach& ap = near(appr_);
   if (stage == 20) {
     if (slope_q8_ < 8) slope_q8_ = 8;
     if (horizon_ticks_ < kTicksPerBin) horizon_ticks_ = kTicksPerBin;
@@ -558,7 +569,7 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   }
   if (stage == 21) {
     // ū = loss at the target / S (0 while the loss is unknown: learnt during the heat-up).
-    steady_q16_ = steady_from_model();
+    ap.steady_q16 = steady_from_model();
     return 22;
   }
   // The model's history over the last L̂ bins: the undelayed state whose delayed copy is the
@@ -567,7 +578,7 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   // now is closed-form: rise + S·on without loss (the tangent probe), rise·(1 − 1/T)^L̂ with it
   // (the cut probe, on = 0), the power by squaring (≤ 12 16×16 multiplies).
   const int32_t rise = y_bin_q8_ - ambient_q8_;
-  const uint8_t on = full_bins_ < horizon_bins_ ? full_bins_ : horizon_bins_;
+  const uint8_t on = ap.full_bins < horizon_bins_ ? ap.full_bins : horizon_bins_;
   uint32_t p = 65536;  // (1 − a)^hb, Q16; every product ≤ 2^16 · 65535 < 2^32
   uint16_t base = static_cast<uint16_t>(65536u - inv_t_q16_);  // inv_t ≥ 1 here, or unused
   for (uint8_t n = inv_t_q16_ != 0 ? horizon_bins_ : 0; n != 0; n >>= 1) {
@@ -576,17 +587,17 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   }
   model_q8_ = (p >= 65536 ? rise : fixed::mul_q16(rise, static_cast<uint16_t>(p))) + slope_q8_ * on;
   offset_q8_ = 0;
-  fill_x_q8_ = rise;
-  fill_j_ = horizon_bins_;
-  fill_on_ = on;
-  fill_a_q16_ = inv_t_q16_;
-  fill_head_ = ring_head_;
-  ref_rise_q8_ = rise;
-  ref_slope_q8_ = 0;
-  full_bins_ = on;
-  duty_avg_q16_ = 0;
-  settled_bins_ = 0;
-  near_bins_ = 0;
+  ap.fill_x_q8 = rise;
+  ap.fill_j = horizon_bins_;
+  ap.fill_on = on;
+  ap.fill_a_q16 = inv_t_q16_;
+  ap.fill_head = ring_head_;
+  ap.ref_rise_q8 = rise;
+  ap.ref_slope_q8 = 0;
+  ap.full_bins = on;
+  ap.duty_avg_q16 = 0;
+  ap.settled_bins = 0;
+  ap.near_bins = 0;
   enter(Phase::kApproach);
   duty_q16_ = heater_on_ ? kFull : 0;
   heater_on_ = false;
@@ -615,7 +626,7 @@ void Autotune::extend_timeout() {
 void Autotune::set_approach_gain() {
   const uint8_t tau = static_cast<uint8_t>(horizon_bins_ < 3 ? 3 : horizon_bins_ + horizon_bins_ / 4);
   const uint32_t g = (uint32_t{1} << 24) / (static_cast<uint32_t>(slope_q8_) * tau);
-  gain_q8_ = static_cast<int32_t>(g > 40000 ? 40000 : g);
+  appr_.gain_q8 = static_cast<int32_t>(g > 40000 ? 40000 : g);
 }
 
 // Untrusted model: the reading a bin ahead by its 4-bin trend over guard_bins_ (rising only).
@@ -665,6 +676,7 @@ int32_t Autotune::steady_from_model() const {
 // Every bin of the approach and the relay (their stage 1): the Smith predictor's model (a mul_q16
 // and a 32×16 multiply, no division); model_anchor (stage 2) anchors it to the reading.
 void Autotune::model_bin() {
+  Approach& ap = near(appr_);
   // Smith predictor: model x' = S·u − x/T (undelayed); prediction = reading + x(now) − x(now − L̂),
   // the heat in flight. The model is anchored to the reading (its delayed state pulled towards
   // it, a quarter per bin, by shifting the whole history through offset_q8_), so its loss term
@@ -676,23 +688,24 @@ void Autotune::model_bin() {
   duty_ring_[ring_head_] = static_cast<uint8_t>(last_bin_duty_q8_ > 255 ? 255 : last_bin_duty_q8_);
   ring_head_ = static_cast<uint8_t>((ring_head_ + 1) % kRingBins);
   // Bins the duty has stayed within ±8 % of where this stretch began.
-  if (abs32(static_cast<int32_t>(last_bin_duty_q8_) - steady_ref_) < 20) {
-    if (steady_bins_ < 250) ++steady_bins_;
+  if (abs32(static_cast<int32_t>(last_bin_duty_q8_) - ap.steady_ref) < 20) {
+    if (ap.steady_bins < 250) ++ap.steady_bins;
   } else {
-    steady_ref_ = static_cast<int16_t>(last_bin_duty_q8_);
-    steady_bins_ = 0;
+    ap.steady_ref = static_cast<int16_t>(last_bin_duty_q8_);
+    ap.steady_bins = 0;
   }
 }
 
 // The stage after model_bin: the pre-approach history entry about to be read, and the anchor.
 // One mul_q16.
 void Autotune::model_anchor() {
-  if (fill_j_ > 0) {
+  Approach& ap = near(appr_);
+  if (ap.fill_j > 0) {
     // The pre-approach history entry read below (L̂ bins ago), one recursion step per bin.
-    --fill_j_;
-    fill_x_q8_ += (fill_j_ < fill_on_ ? slope_q8_ : 0) - fixed::mul_q16(fill_x_q8_, fill_a_q16_);
-    ring_[(fill_head_ + kRingBins - 1 - fill_j_) % kRingBins] =
-        static_cast<int16_t>(fixed::clamp(div2n<4>(fill_x_q8_), int32_t{-32000}, int32_t{32000}));
+    --ap.fill_j;
+    ap.fill_x_q8 += (ap.fill_j < ap.fill_on ? slope_q8_ : 0) - fixed::mul_q16(ap.fill_x_q8, ap.fill_a_q16);
+    ring_[(ap.fill_head + kRingBins - 1 - ap.fill_j) % kRingBins] =
+        static_cast<int16_t>(fixed::clamp(div2n<4>(ap.fill_x_q8), int32_t{-32000}, int32_t{32000}));
   }
   const int32_t anchor = div2n<2>(y_bin_q8_ - ambient_q8_ - model_ago(horizon_bins_));
   offset_q8_ += anchor;
@@ -703,6 +716,7 @@ void Autotune::model_anchor() {
 }
 
 uint8_t Autotune::approach_stage(uint8_t stage) {
+  Approach& ap = near(appr_);
   const int32_t rise = y_bin_q8_ - ambient_q8_;
   switch (stage) {
     case 1:
@@ -717,7 +731,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // This keeps the model's steady state on the real one, so the predictor holds the target
       // exactly. Only while the duty has been steady (within 8 %) over L̂ + 6 bins: in transients
       // a dead time that is off by a bin would pass for a loss error.
-      if (full_bins_ == 0 && rise > 20 * kQ8 && steady_bins_ >= horizon_bins_ + 6) {
+      if (ap.full_bins == 0 && rise > 20 * kQ8 && ap.steady_bins >= horizon_bins_ + 6) {
         const int32_t s4 = div2n<2>(y_bin_q8_ - y_hist_q8_[3]);
         const int32_t centre = rise - 2 * s4;
         const int32_t model_slope = static_cast<int32_t>((static_cast<uint32_t>(slope_q8_) * duty_ago(horizon_bins_ + 2) + 128) >> 8) -
@@ -732,17 +746,17 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // Loss learning while at full power (the slope falls as the loss grows): 1/T = Δslope/Δrise
       // between a reference 4-bin slope taken once the heat-up runs at full power and the latest,
       // over at least 40 °C (the same estimator at both ends: no bias from taking a maximum).
-      full_bins_ = last_bin_duty_q8_ >= 255 ? static_cast<uint8_t>(full_bins_ < 250 ? full_bins_ + 1 : 250) : 0;
-      if (full_bins_ > horizon_bins_ + 4) {
+      ap.full_bins = last_bin_duty_q8_ >= 255 ? static_cast<uint8_t>(ap.full_bins < 250 ? ap.full_bins + 1 : 250) : 0;
+      if (ap.full_bins > horizon_bins_ + 4) {
         const int32_t s4 = div2n<2>(y_bin_q8_ - y_hist_q8_[3]);
         const int32_t at = rise - 2 * s4;  // rise at the window's centre
-        if (ref_slope_q8_ == 0) {
-          ref_slope_q8_ = s4 > 0 ? s4 : 1;
-          ref_rise_q8_ = at;
-        } else if (at - ref_rise_q8_ > 40 * kQ8 && s4 < ref_slope_q8_) {
+        if (ap.ref_slope_q8 == 0) {
+          ap.ref_slope_q8 = s4 > 0 ? s4 : 1;
+          ap.ref_rise_q8 = at;
+        } else if (at - ap.ref_rise_q8 > 40 * kQ8 && s4 < ap.ref_slope_q8) {
           // ref_slope − s4 ≤ a full-power slope per bin (< 2^15 for < 128 °C/s) × 2^16 < 2^31.
-          const uint32_t ds = static_cast<uint32_t>(ref_slope_q8_ - s4);
-          const uint32_t inv_t = ((ds > 32767 ? 32767 : ds) << 16) / static_cast<uint32_t>(at - ref_rise_q8_);
+          const uint32_t ds = static_cast<uint32_t>(ap.ref_slope_q8 - s4);
+          const uint32_t inv_t = ((ds > 32767 ? 32767 : ds) << 16) / static_cast<uint32_t>(at - ap.ref_rise_q8);
           inv_t_q16_ = static_cast<uint16_t>(inv_t > 16384 ? 16384 : inv_t);
         }
         // A probe cut short while the lags were still filling (a hot start has little room
@@ -761,7 +775,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       set_approach_gain();
       return 5;
     case 5:
-      steady_q16_ = steady_from_model();
+      ap.steady_q16 = steady_from_model();
       return 6;
     case 6: {
       const int32_t predicted = y_bin_q8_ + model_ago(0) - model_ago(horizon_bins_);
@@ -772,31 +786,31 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         const int32_t guard = target_q8_ - trend_q8();
         if (guard < ex) ex = guard;
       }
-      const int32_t u = steady_q16_ + ((ex * gain_q8_) >> 8);  // |ex·gain| ≤ 51,200 · 40,000 < 2^31
+      const int32_t u = ap.steady_q16 + ((ex * ap.gain_q8) >> 8);  // |ex·gain| ≤ 51,200 · 40,000 < 2^31
       duty_q16_ = clamp_duty(u);
       // The fan hold on an untrusted model, as its relay (guard_off_: seed000 at σ 0.3 °C reached
       // S + 5.3 without).
-      if (hold_bins_ != 0 && guard_off_) duty_q16_ = 0;
-      duty_avg_q16_ += div2n<2>(static_cast<int32_t>(duty_q16_) - duty_avg_q16_);
+      if (ap.hold_bins != 0 && guard_off_) duty_q16_ = 0;
+      ap.duty_avg_q16 += div2n<2>(static_cast<int32_t>(duty_q16_) - ap.duty_avg_q16);
       // (An untrusted model's P law may stall short of the target: the relay takes over nearer.)
-      settled_bins_ = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? 4 * kSettleBandQ8 : kSettleBandQ8)
-                          ? static_cast<uint8_t>(settled_bins_ + 1)
+      ap.settled_bins = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? 4 * kSettleBandQ8 : kSettleBandQ8)
+                          ? static_cast<uint8_t>(ap.settled_bins + 1)
                           : 0;
       // A P law on a slightly wrong loss stalls short of the target, and the loss learning's
       // resolution (≈ 0.02 °C/bin of slope) may not move it (heavy-slow in simavr: 209.0 °C for
       // an hour). Within 2 °C for 3 (L̂ + 2) bins is near enough: the relay's bias takes over.
-      near_bins_ = abs32(target_q8_ - y_bin_q8_) < 4 * kSettleBandQ8 ? static_cast<uint8_t>(near_bins_ < 255 ? near_bins_ + 1 : 255) : 0;
+      ap.near_bins = abs32(target_q8_ - y_bin_q8_) < 4 * kSettleBandQ8 ? static_cast<uint8_t>(ap.near_bins < 255 ? ap.near_bins + 1 : 255) : 0;
       // Crossings of the target (±0.3 °C): a slow hotend that the approach leaves swinging around
       // it goes to the relay at the second crossing, whose bias adaptation takes over.
       const int8_t side = y_bin_q8_ > target_q8_ + kQ8 * 3 / 10 ? 1 : (y_bin_q8_ < target_q8_ - kQ8 * 3 / 10 ? -1 : 0);
-      if (side != 0 && side != side_) {
-        if (side_ != 0) ++crossings_;
-        side_ = side;
+      if (side != 0 && side != ap.side) {
+        if (ap.side != 0) ++ap.crossings;
+        ap.side = side;
       }
-      if (hold_bins_ != 0) {
-        // Compared before the increment: at hold_len_ 255 the 8-bit count wraps to 0, and an
+      if (ap.hold_bins != 0) {
+        // Compared before the increment: at hold_len 255 the 8-bit count wraps to 0, and an
         // increment first would then restart the hold for ever (the tune timed out).
-        if (hold_bins_++ < hold_len_) return 0;
+        if (ap.hold_bins++ < ap.hold_len) return 0;
         pending_q8_ = y_bin_q8_ - pending_q8_;  // the hold's drift (compute)
         fan_ = 0;
         duty_q16_ = 0;
@@ -804,7 +818,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         enter(Phase::kCompute);
         return 0;
       }
-      return settled_bins_ >= horizon_bins_ + 2 || near_bins_ >= 3 * (horizon_bins_ + 2) || crossings_ >= 2 ? 7 : 0;
+      return ap.settled_bins >= horizon_bins_ + 2 || ap.near_bins >= 3 * (horizon_bins_ + 2) || ap.crossings >= 2 ? 7 : 0;
     }
     default: {
       if (fan_pending_) {
@@ -812,16 +826,16 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         // the mean duty, instead of relay cycles (each ≥ 4 L̂ on a dead-time hotend): (C + 1)/2
         // × (L̂ + 2 bins), capped at 255 bins (C20 on a 70-bin horizon would be 720).
         const uint16_t len = static_cast<uint16_t>(((cycles_ + 1u) >> 1) * (horizon_bins_ + 2u));
-        hold_len_ = static_cast<uint8_t>(len > 255 ? 255 : len);
-        hold_bins_ = 1;
+        ap.hold_len = static_cast<uint8_t>(len > 255 ? 255 : len);
+        ap.hold_bins = 1;
         pending_q8_ = y_bin_q8_;  // its first bin, for its drift
         return 0;
       }
-      crossings_ = 0;
-      side_ = 0;
+      ap.crossings = 0;
+      ap.side = 0;
       // Relay around the smoothed duty; d for ±1.5 °C by the probe's model (in-flight rise per
       // unit duty ≈ S·L̂ bounds the FOPDT excursion K·d·(1 − e^(−L/T))): 384·2^16 < 2^25.
-      bias_q16_ = clamp_duty(duty_avg_q16_);
+      bias_q16_ = clamp_duty(ap.duty_avg_q16);
       d_q16_ = clamp_step((static_cast<uint32_t>(kAmplitudeQ8) << 16) / (static_cast<uint32_t>(slope_q8_) * horizon_bins_));
       relay_hi_ = y_bin_q8_ < target_q8_;
       half_ticks_ = 0;
@@ -1014,9 +1028,9 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
       // on slow hotends; the hold then measures the real figure. inv_t·26214 < 2^31.
       inv_t_q16_ = static_cast<uint16_t>(fixed::sat_u16(static_cast<int32_t>(
           inv_t_q16_ + ((uint32_t{inv_t_q16_} * 26214u) >> 16))));
-      settled_bins_ = 0;
-      near_bins_ = 0;
-      full_bins_ = 0;
+      appr_.settled_bins = 0;
+      appr_.near_bins = 0;
+      appr_.full_bins = 0;
       enter(Phase::kApproach);
     } else {
       fan_ = 0;
@@ -1032,6 +1046,7 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
 // 0–5 K (0–2 the drift); 13 per stored cycle (T, L from the relay); 4 for K with the fan (hold);
 // 10 for F, the averages, the probe's C and the result.
 bool Autotune::compute_chunk() {
+  Compute& v = near(c_);
   const int32_t rise_target = target_q8_ - ambient_q8_;
   const uint8_t stored = stored_count_ < kMaxStoredCycles ? stored_count_ : kMaxStoredCycles;
   constexpr uint8_t k0 = 6;  // compute steps of the no-fan gain
@@ -1047,30 +1062,30 @@ bool Autotune::compute_chunk() {
     // and last bins. T: the learnt 1/T (the relay's from before the fan came on).
     // Cycle sums: |dev| ≤ 2^13 per tick × ≤ 2^16 ticks.
     if (sub == 0) {
-      c_a_hi_ = first_ticks_ > 0 ? first_dev_ / first_ticks_ : 0;
+      v.a_hi = first_ticks_ > 0 ? first_dev_ / first_ticks_ : 0;
     } else if (sub == 1) {
-      c_a_lo_ = (last_ticks_ > 0 ? last_dev_ / last_ticks_ : 0) - c_a_hi_;
-      c_a_hi_ = (static_cast<int32_t>(sum_ticks_[0]) - div2n<1>(first_ticks_ + last_ticks_)) >> 3;  // span, bins
+      v.a_lo = (last_ticks_ > 0 ? last_dev_ / last_ticks_ : 0) - v.a_hi;
+      v.a_hi = (static_cast<int32_t>(sum_ticks_[0]) - div2n<1>(first_ticks_ + last_ticks_)) >> 3;  // span, bins
     } else if (sub == 2) {
       // T·ẏ = Δ · 2^16 / (span · 1/T): |Δ| clamped to 2^13, × 2^16 < 2^30; span < 2^13 bins ×
       // 1/T ≤ 2^14 < 2^27 (≥ 1, else no correction).
-      const int32_t d = part == 0 ? c_a_lo_ : pending_q8_;
-      const uint32_t den = static_cast<uint32_t>(part == 0 ? c_a_hi_ : hold_len_) * (part == 0 ? inv_t_nofan_q16_ : inv_t_q16_);
+      const int32_t d = part == 0 ? v.a_lo : pending_q8_;
+      const uint32_t den = static_cast<uint32_t>(part == 0 ? v.a_hi : appr_.hold_len) * (part == 0 ? inv_t_nofan_q16_ : inv_t_q16_);
       const uint32_t c = static_cast<int32_t>(den) > 0 ? (static_cast<uint32_t>(abs32(d) > 8192 ? 8192 : abs32(d)) << 16) / den : 0;
-      c_a_hi_ = static_cast<int32_t>(c > 8192 ? 8192 : c);
-      if (d < 0) c_a_hi_ = -c_a_hi_;
+      v.a_hi = static_cast<int32_t>(c > 8192 ? 8192 : c);
+      if (d < 0) v.a_hi = -v.a_hi;
     } else if (sub == 3) {
-      c_mean_q8_ = rise_target + sum_dev_[part] / n + c_a_hi_;
+      v.mean_q8 = rise_target + sum_dev_[part] / n + v.a_hi;
     } else if (sub == 4) {
-      c_duty_ = static_cast<int32_t>(sum_duty_[part] / static_cast<uint32_t>(n));  // duty_q16 >> 4
+      v.duty = static_cast<int32_t>(sum_duty_[part] / static_cast<uint32_t>(n));  // duty_q16 >> 4
     } else {
       // mean rise < 2^17 (≤ 300 °C above ambient), × 2^12 < 2^29.
-      const int32_t g = c_duty_ > 0 && c_mean_q8_ > 0
-                            ? static_cast<int32_t>(((static_cast<uint32_t>(c_mean_q8_) << 12) + static_cast<uint32_t>(c_duty_) / 2) /
-                                                   static_cast<uint32_t>(c_duty_))
+      const int32_t g = v.duty > 0 && v.mean_q8 > 0
+                            ? static_cast<int32_t>(((static_cast<uint32_t>(v.mean_q8) << 12) + static_cast<uint32_t>(v.duty) / 2) /
+                                                   static_cast<uint32_t>(v.duty))
                             : 0;
-      if (part == 0) k_q8_ = g;
-      c_mean_q8_ = g;  // the fan part's gain is read by the next step
+      if (part == 0) v.k_q8 = g;
+      v.mean_q8 = g;  // the fan part's gain is read by the next step
     }
     return false;
   }
@@ -1081,120 +1096,120 @@ bool Autotune::compute_chunk() {
     // Rises above ambient, °C × 256.
     const int32_t y_max = rise_target + c.max_q8, y_min = rise_target + c.min_q8;
     const int32_t s_hi = rise_target + c.switch_hi_q8, s_lo = rise_target + c.switch_lo_q8;
-    const int32_t a_hi = c_a_hi_, a_lo = c_a_lo_;
+    const int32_t a_hi = v.a_hi, a_lo = v.a_lo;
     switch (sub) {
       case 0:
-        c_a_hi_ = fixed::mul_q16(k_q8_, c.u_hi_q16);
-        c_a_lo_ = fixed::mul_q16(k_q8_, c.u_lo_q16);
+        v.a_hi = fixed::mul_q16(v.k_q8, c.u_hi_q16);
+        v.a_lo = fixed::mul_q16(v.k_q8, c.u_lo_q16);
         return false;
       case 1: {
         // FOPDT under a relay: y_max − y_min − (s_hi − s_lo) = (a_hi − a_lo − (s_hi − s_lo))·(1 − θ),
         // θ = e^(−L/T). num < den; num ≤ 2^15 (clamped), × 2^16 < 2^31.
         const int32_t num = y_max - y_min - (s_hi - s_lo);
         const int32_t den = a_hi - a_lo - (s_hi - s_lo);
-        c_theta_ = 0;
+        v.theta = 0;
         if (num <= 0 || den <= num || a_hi <= s_hi || a_hi <= y_min || s_lo <= a_lo || y_max <= a_lo || num > 32767) return false;
-        c_theta_ = 65536u - ((static_cast<uint32_t>(num) << 16) + static_cast<uint32_t>(den) / 2) / static_cast<uint32_t>(den);
+        v.theta = 65536u - ((static_cast<uint32_t>(num) << 16) + static_cast<uint32_t>(den) / 2) / static_cast<uint32_t>(den);
         return false;
       }
       default:
         break;
     }
-    if (c_theta_ == 0) return false;  // this cycle does not fit the FOPDT formulas
+    if (v.theta == 0) return false;  // this cycle does not fit the FOPDT formulas
     switch (sub) {
       case 2:
-        c_lambda_ = fixed_math::log2_q16(c_theta_);
+        v.lambda = fixed_math::log2_q16(v.theta);
         return false;
       case 3:  // λ = L/T = ln(1/θ) = (16 − log2 θ)·ln 2, Q16
-        c_lambda_ = fixed_math::ln_from_log2_q16((int32_t{16} << 16) - c_lambda_);
+        v.lambda = fixed_math::ln_from_log2_q16((int32_t{16} << 16) - v.lambda);
         return false;
       case 4:
-        c_ln_ = fixed_math::log2_q16(static_cast<uint32_t>(a_hi - y_min));
+        v.ln = fixed_math::log2_q16(static_cast<uint32_t>(a_hi - y_min));
         return false;
       case 5:
-        c_ln_ -= fixed_math::log2_q16(static_cast<uint32_t>(a_hi - s_hi));
+        v.ln -= fixed_math::log2_q16(static_cast<uint32_t>(a_hi - s_hi));
         return false;
       case 6:  // 2λ + ln((a_hi − y_min)/(a_hi − s_hi))
-        c_ln_ = 2 * c_lambda_ + fixed_math::ln_from_log2_q16(c_ln_);
+        v.ln = 2 * v.lambda + fixed_math::ln_from_log2_q16(v.ln);
         return false;
       case 7:
-        c_log_ = fixed_math::log2_q16(static_cast<uint32_t>(y_max - a_lo));
+        v.log = fixed_math::log2_q16(static_cast<uint32_t>(y_max - a_lo));
         return false;
       case 8:
-        c_log_ -= fixed_math::log2_q16(static_cast<uint32_t>(s_lo - a_lo));
+        v.log -= fixed_math::log2_q16(static_cast<uint32_t>(s_lo - a_lo));
         return false;
       case 9:  // + ln((y_max − a_lo)/(s_lo − a_lo)): period / T, Q16
-        c_ln_ += fixed_math::ln_from_log2_q16(c_log_);
+        v.ln += fixed_math::ln_from_log2_q16(v.log);
         return false;
       case 10:
-        c_log_ = seconds_q8(static_cast<uint16_t>(c.t_hi + c.t_lo));
+        v.log = seconds_q8(static_cast<uint16_t>(c.t_hi + c.t_lo));
         return false;
       case 11:  // T = period·2^16/(period/T)
-        c_log_ = c_ln_ > 0 ? static_cast<int32_t>(div_q16(static_cast<uint32_t>(c_log_), static_cast<uint32_t>(c_ln_))) : 0;
+        v.log = v.ln > 0 ? static_cast<int32_t>(div_q16(static_cast<uint32_t>(v.log), static_cast<uint32_t>(v.ln))) : 0;
         return false;
       default: {
-        if (c_log_ <= 0) return false;
+        if (v.log <= 0) return false;
         // L = T·λ (λ = whole + Q16 fraction).
-        const int32_t t_q8 = c_log_;
-        const int32_t l_q8 = fixed::mul_round(t_q8, fixed::Multiplier{static_cast<uint32_t>(c_lambda_) >> 16,
-                                                                       static_cast<uint16_t>(c_lambda_)});
+        const int32_t t_q8 = v.log;
+        const int32_t l_q8 = fixed::mul_round(t_q8, fixed::Multiplier{static_cast<uint32_t>(v.lambda) >> 16,
+                                                                       static_cast<uint16_t>(v.lambda)});
         // Not corrected for the relay filter's 1.5-period delay: the filter also rounds the peaks
         // off (a smaller amplitude reads as a shorter L), and the two nearly cancel (measured).
-        t_sum_q8_ += t_q8;
-        l_sum_q8_ += l_q8 > 0 ? l_q8 : 0;
-        ++tl_count_;
+        v.t_sum_q8 += t_q8;
+        v.l_sum_q8 += l_q8 > 0 ? l_q8 : 0;
+        ++v.tl_count;
         return false;
       }
     }
   }
   s = static_cast<uint8_t>(s - k0 - 4 - kCycleSteps * stored);  // the fan gain's 4 steps
-  HotendModel& m = result_.model;
-  const int32_t count = tl_count_ > 0 ? tl_count_ : 1;
+  HotendModel& m = near(result_.model);
+  const int32_t count = v.tl_count > 0 ? v.tl_count : 1;
   switch (s) {
     case 0: {
       // F = K_nofan / K_fan − 1 (%, q8): (K << 12)/K_fan with K < 2^19; × 25,600 < 2^31.
       int32_t f_q8 = 0;
-      if (measure_fan_ && sum_ticks_[1] > 0 && c_mean_q8_ > 0) {
-        const uint32_t r = (static_cast<uint32_t>(k_q8_) << 12) / static_cast<uint32_t>(c_mean_q8_);
+      if (measure_fan_ && sum_ticks_[1] > 0 && v.mean_q8 > 0) {
+        const uint32_t r = (static_cast<uint32_t>(v.k_q8) << 12) / static_cast<uint32_t>(v.mean_q8);
         f_q8 = static_cast<int32_t>(((r > 65535 ? 65535 : r) * 25600u + 2048u) >> 12) - 25600;
       }
       m.fan_loss_pct_q8 = f_q8 < 0 ? 0 : f_q8;
       return false;
     }
     case 1:
-      m.time_constant_q8 = t_sum_q8_ / count;
+      m.time_constant_q8 = v.t_sum_q8 / count;
       return false;
     case 2:
-      m.dead_time_q8 = l_sum_q8_ / count;
+      m.dead_time_q8 = v.l_sum_q8 / count;
       return false;
     case 3:
-      c_a_hi_ = m.time_constant_q8;  // the relay's T (case 6 compares)
-      if (continuous_ && k_q8_ > slope_rise_q8_) {
+      v.a_hi = m.time_constant_q8;  // the relay's T (case 6 compares)
+      if (probe_.continuous && v.k_q8 > probe_.slope_rise_q8) {
         // A lag-type hotend (its response started within the first pulse and steepened
         // smoothly): the relay's FOPDT formulas misread a lag as a long time constant. T from
         // the heat-up instead: the steepest slope S = (K − rise there)/T (< 2^19 · 2^9).
-        const uint32_t num = static_cast<uint32_t>(k_q8_ - slope_rise_q8_) * static_cast<uint32_t>(seconds_q8(kTicksPerBin));
+        const uint32_t num = static_cast<uint32_t>(v.k_q8 - probe_.slope_rise_q8) * static_cast<uint32_t>(seconds_q8(kTicksPerBin));
         m.time_constant_q8 = static_cast<int32_t>((num + static_cast<uint32_t>(slope_q8_) / 2) / static_cast<uint32_t>(slope_q8_));
       }
       return false;
     case 4:
-      // A cut probe is a full-power pulse of p = on_ticks_ from a steady baseline; an FOPDT's
+      // A cut probe is a full-power pulse of p = probe_.on_ticks ticks from a steady baseline; an FOPDT's
       // response to it peaks (at D + p) at h = A·(1 − e^(−p/C)), so C = p / ln(A/(A − h)), with A
       // from the relay (≈ 0.1 %): accurate where the relay's asymmetric formulas scatter by
       // ±2.5 % at σ 0.1 °C. Here ln(A/(A − h)) as log2 (A < 2^19, A − h ≥ 1).
-      c_ln_ = 0;
-      if (!continuous_ && probe_max_q8_ > 0 && k_q8_ > probe_max_q8_) {
-        c_ln_ = fixed_math::log2_q16(static_cast<uint32_t>(k_q8_)) -
-                fixed_math::log2_q16(static_cast<uint32_t>(k_q8_ - probe_max_q8_));
+      v.ln = 0;
+      if (!probe_.continuous && probe_max_q8_ > 0 && v.k_q8 > probe_max_q8_) {
+        v.ln = fixed_math::log2_q16(static_cast<uint32_t>(v.k_q8)) -
+                fixed_math::log2_q16(static_cast<uint32_t>(v.k_q8 - probe_max_q8_));
       }
       return false;
     case 5: {
       // C = p·2^16 / ln (p ≤ 6 s: < 2^11 in q8); a C over 2^23 (no FOPDT hotend) counts as none.
-      c_lambda_ = 0;
-      if (c_ln_ > 0) {
-        const uint32_t c = div_q16(static_cast<uint32_t>(seconds_q8(on_ticks_)),
-                                   static_cast<uint32_t>(fixed_math::ln_from_log2_q16(c_ln_)));
-        c_lambda_ = c < (uint32_t{1} << 23) ? static_cast<int32_t>(c) : 0;
+      v.lambda = 0;
+      if (v.ln > 0) {
+        const uint32_t c = div_q16(static_cast<uint32_t>(seconds_q8(probe_.on_ticks)),
+                                   static_cast<uint32_t>(fixed_math::ln_from_log2_q16(v.ln)));
+        v.lambda = c < (uint32_t{1} << 23) ? static_cast<int32_t>(c) : 0;
       }
       return false;
     }
@@ -1204,37 +1219,37 @@ bool Autotune::compute_chunk() {
       // the lag (the FOPDT equivalent of the heat-up, as a two-point fit of it: the M307 model's
       // initial rate A/C and its delay are what its model-following heat-up relies on).
       const int32_t lag = seconds_q8(static_cast<uint16_t>(horizon_ticks_));
-      c_log_ = 0;  // x for the next step: 0 = no lag seen
-      if (continuous_ && k_q8_ > slope_rise_q8_) {
+      v.log = 0;  // x for the next step: 0 = no lag seen
+      if (probe_.continuous && v.k_q8 > probe_.slope_rise_q8) {
         if (m.time_constant_q8 > 2 * lag) m.time_constant_q8 -= lag;
         m.dead_time_q8 = lag;
         // x = lag / T, Q16 (the next step turns it into the two-point dead time), when the
         // relay's FOPDT formulas saw a lag (their T > 1.5 × the heat-up's: 2.2–3.5 × on the
         // two-node plants and seed003); a true FOPDT's tangent is right (fopdt-30-1: 1.18 ×).
-        if (2 * c_a_hi_ > 3 * m.time_constant_q8) {
-          c_log_ = static_cast<int32_t>(div_q16(static_cast<uint32_t>(lag), static_cast<uint32_t>(m.time_constant_q8)));
+        if (2 * v.a_hi > 3 * m.time_constant_q8) {
+          v.log = static_cast<int32_t>(div_q16(static_cast<uint32_t>(lag), static_cast<uint32_t>(m.time_constant_q8)));
         }
-      } else if (c_lambda_ > 0 && 10 * abs32(c_lambda_ - m.time_constant_q8) < m.time_constant_q8) {
+      } else if (v.lambda > 0 && 10 * abs32(v.lambda - m.time_constant_q8) < m.time_constant_q8) {
         // The probe's C where it agrees with the relay's within 10 % (an FOPDT hotend; a lag or
         // a noisy peak would not): |C − T| < 2^23, × 10 < 2^27.
-        m.time_constant_q8 = c_lambda_;
+        m.time_constant_q8 = v.lambda;
       } else if (slope_q8_ > 0 && !hot_start_) {
         // A cut probe (hot start, or a slower response): S = K/T at full power. The relay's FOPDT
         // formulas read a sensor lag as a long T (×3 on a lag-type hotend); K/S does not. Taken
         // when it is well below the relay's T (an FOPDT hotend: within noise, the relay's kept);
         // cold starts only (a hot start's pulse is read against a decaying baseline: S unsure).
         // K < 2^19, × (s × 256 per bin) < 2^10: < 2^29.
-        const uint32_t num = static_cast<uint32_t>(k_q8_) * static_cast<uint32_t>(seconds_q8(kTicksPerBin));
+        const uint32_t num = static_cast<uint32_t>(v.k_q8) * static_cast<uint32_t>(seconds_q8(kTicksPerBin));
         const int32_t t_s = static_cast<int32_t>((num + static_cast<uint32_t>(slope_q8_) / 2) / static_cast<uint32_t>(slope_q8_));
         if (t_s > 0 && 4 * t_s < 3 * m.time_constant_q8) m.time_constant_q8 = t_s;
       }
       return false;
     }
     case 7:
-      if (c_log_ > 0) {
+      if (v.log > 0) {
         result_.sensor_lag_q8 = m.dead_time_q8;
-        m.dead_time_q8 = two_point_dead_time(m.dead_time_q8, c_log_);
-      } else if (!continuous_ && !hot_start_) {
+        m.dead_time_q8 = two_point_dead_time(m.dead_time_q8, v.log);
+      } else if (!probe_.continuous && !hot_start_) {
         // A cut probe whose cut-to-peak time is over 4 × the relay's dead time: no FOPDT peaks
         // that late (there it is the dead time), two lags τ1 ≫ τ2 peak at τ2·ln(τ1/τ2)/(1 − τ2/τ1),
         // 2–3 τ2 for τ2/τ1 = 0.2–0.05 (heavy-slow: 66 s, τ2 = 25 s). τ2 ≈ peak/2.5 is then the
@@ -1252,7 +1267,7 @@ bool Autotune::compute_chunk() {
       return false;
     default:
       result_.ultimate.tu_q8 = ku_count_ > 0 ? static_cast<int32_t>(tu_sum_q8_ / ku_count_) : 0;
-      m.rise_q8 = k_q8_;
+      m.rise_q8 = v.k_q8;
       result_.ambient_q8 = ambient_q8_;
       result_.hot_start = hot_start_;
       result_.unsure = untrusted_;

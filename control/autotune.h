@@ -189,7 +189,7 @@ class Autotune {
   uint16_t inv_t_q16_ = 0;      // loss rate 1/T per bin, Q16
   uint8_t horizon_bins_ = 0;
   int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)
-  int32_t offset_q8_ = 0;
+  int32_t horizon_ticks_ = 0;   // L̂
   int32_t target_q8_ = 0;
   int32_t ambient_q8_ = 0;  // (kDefaultAmbientQ8 from start() unless measured or given)
   uint16_t bin_duty_sum_ = 0;  // Σ duty q8 over the bin (≤ 8·256)
@@ -209,7 +209,6 @@ class Autotune {
   int32_t bin_sum_q8_ = 0;
   uint32_t tick_ = 0;
   uint16_t probe_ticks_ = 0;
-  uint16_t on_ticks_ = 0;
   uint16_t bins_ = 0;          // completed bins in this phase
 
   // Configuration.
@@ -231,13 +230,33 @@ class Autotune {
 
   // Baseline / probe.
   int32_t y0_q8_ = 0;
-  int32_t base_rise_q8_ = 0;   // predicted baseline, relative to ambient
-  uint16_t base_rate_q16_ = 0;  // baseline decay per bin, Q16 (hot start)
+  struct Probe {  // reached through near() where used most
+    int32_t base_rise_q8;   // predicted baseline, relative to ambient
+    uint16_t base_rate_q16;  // baseline decay per bin, Q16 (hot start)
+    uint16_t on_ticks;
+    uint16_t cap_ticks;     // energy cap of the probe's pulse
+    uint16_t off_tick;      // tick (since probe start) the pulse ended
+    bool extend;        // pulse extended past the cap (response seen, still steepening)
+    bool detected;
+    uint16_t det_bin;
+    int32_t dev_q8;
+    int32_t dev_prev_q8;
+    int32_t dev_prev2_q8;
+    int32_t slope_max_q8;
+    uint16_t slope_max_bin;
+    int32_t slope_max_dev_q8;  // deviation at the centre of the steepest window
+    bool continuous;
+    int32_t max_centre_tick;
+    int32_t dev_peak_q8;
+    uint16_t peak_bin;
+    bool peaked;
+    int32_t y_peak_q8;
+    uint8_t retries;
+    int32_t slope_rise_q8;   // rise at the centre of the steepest heat-up window (cut probe: its smoothed peak)
+  };
+  Probe probe_ = {};
   int32_t start_q8_ = 0;       // reading at start()
   bool hot_start_ = false;
-  uint16_t cap_ticks_ = 0;     // energy cap of the probe's pulse
-  uint16_t off_tick_ = 0;      // tick (since probe start) the pulse ended
-  bool extend_ = false;        // pulse extended past the cap (response seen, still steepening)
   bool cooled_ = false;        // a hot start has shown its decay
   // Cool phase: the reading it started at. From the probe on (the cool phase is over): the
   // highest reading after the pulse's cut, then (cut probe) its height above the baseline.
@@ -245,19 +264,6 @@ class Autotune {
     int32_t cool_ref_q8_ = 0;
     int32_t probe_max_q8_;
   };
-  bool detected_ = false;
-  uint16_t det_bin_ = 0;
-  int32_t dev_q8_ = 0, dev_prev_q8_ = 0, dev_prev2_q8_ = 0;
-  int32_t slope_max_q8_ = 0;
-  uint16_t slope_max_bin_ = 0;
-  int32_t slope_max_dev_q8_ = 0;  // deviation at the centre of the steepest window
-  bool continuous_ = false;
-  int32_t max_centre_tick_ = 0;
-  int32_t dev_peak_q8_ = 0;
-  uint16_t peak_bin_ = 0;
-  bool peaked_ = false;
-  int32_t y_peak_q8_ = 0;
-  uint8_t retries_ = 0;
   // Reading noise, measured while nothing but noise moves the reading (baseline, cooling, the
   // probe until its response shows): Σ|second difference| over noise_n_ readings, and the σ
   // it gives (°C × 256). The probe's thresholds, the relay's hysteresis and the trend guard's
@@ -267,22 +273,31 @@ class Autotune {
   uint16_t noise_q8_ = 0;
 
   // Model for the approach.
-  int32_t horizon_ticks_ = 0;   // L̂
-  int32_t gain_q8_ = 0;         // approach P gain: duty_q16 per temp_q8, × 256
-  int32_t steady_q16_ = 0;      // ū: steady duty estimate (integral part)
-  uint8_t settled_bins_ = 0;
-  uint8_t near_bins_ = 0;       // bins within 2 °C of the target (a stalled approach)
-  int32_t ref_rise_q8_ = 0;
-  int32_t ref_slope_q8_ = 0;     // loss learning: rise where the slope S was measured
-  uint8_t full_bins_ = 0;       // consecutive bins at 100 % in the approach
-  int32_t duty_avg_q16_ = 0;    // smoothed approach duty (relay bias)
+  int32_t offset_q8_ = 0;
+  struct Approach {  // reached through near() where used most
+    int32_t gain_q8;         // approach P gain: duty_q16 per temp_q8, × 256
+    int32_t steady_q16;      // ū: steady duty estimate (integral part)
+    uint8_t settled_bins;
+    uint8_t near_bins;       // bins within 2 °C of the target (a stalled approach)
+    int32_t ref_rise_q8;
+    int32_t ref_slope_q8;     // loss learning: rise where the slope S was measured
+    uint8_t full_bins;       // consecutive bins at 100 % in the approach
+    int32_t duty_avg_q16;    // smoothed approach duty (relay bias)
+    int32_t fill_x_q8;
+    uint8_t fill_j;          // entries j ≥ fill_j written
+    uint8_t fill_on;         // the last fill_on bins were at full power
+    uint16_t fill_a_q16;     // 1/T the history runs with
+    uint8_t fill_head;       // ring_head_ when the approach began
+    uint8_t hold_bins;       // bins into the fan hold + 1 (0: not holding)
+    uint8_t hold_len;        // its length in bins
+    uint8_t crossings;
+    uint8_t steady_bins;     // bins the duty has stayed near steady_ref
+    int16_t steady_ref;
+    int8_t side;
+  };
+  Approach appr_ = {};
   // The model's history before the approach, generated one entry per bin as it is first read
   // (instead of all L̂ entries at once): entry j bins before the approach began.
-  int32_t fill_x_q8_ = 0;
-  uint8_t fill_j_ = 0;          // entries j ≥ fill_j_ written
-  uint8_t fill_on_ = 0;         // the last fill_on_ bins were at full power
-  uint16_t fill_a_q16_ = 0;     // 1/T the history runs with
-  uint8_t fill_head_ = 0;       // ring_head_ when the approach began
   int32_t pending_q8_ = 0;      // a value carried from one stage to the next (the fan hold: its
                                 // first bin mean, for its drift)
   // The probe's model cannot be trusted (cut-to-peak time beyond the history, or no clean peak):
@@ -303,8 +318,6 @@ class Autotune {
   uint8_t cycle_index_ = 0;     // completed relay cycles (the settling one included)
   bool fan_pending_ = false;     // the fan is on: the approach ends in the fan hold
   uint8_t nofan_measure_ = 0;
-  uint8_t hold_bins_ = 0;       // bins into the fan hold + 1 (0: not holding)
-  uint8_t hold_len_ = 0;        // its length in bins
   uint16_t inv_t_nofan_q16_ = 0;  // 1/T before the fan came on
   bool started_cycle_ = false;
   int32_t sum_dev_[2] = {};     // Σ (y − target) per tick over measured cycles, [0] no fan, [1] fan
@@ -318,22 +331,21 @@ class Autotune {
 
   // Compute.
   uint8_t compute_step_ = 0;
-  int32_t k_q8_ = 0;            // K: °C × 256 per unit duty
-  int32_t t_sum_q8_ = 0, l_sum_q8_ = 0;
-  uint8_t tl_count_ = 0;
-  int32_t slope_rise_q8_ = 0;   // rise at the centre of the steepest heat-up window (cut probe: its smoothed peak)
-  int32_t c_mean_q8_ = 0, c_duty_ = 0;  // compute temporaries
-  int32_t c_lambda_ = 0, c_ln_ = 0, c_log_ = 0, c_a_hi_ = 0, c_a_lo_ = 0;
-  uint32_t c_theta_ = 0;
-  uint8_t crossings_ = 0;
-  uint8_t steady_bins_ = 0;     // bins the duty has stayed near steady_ref_
-  int16_t steady_ref_ = 0;
-  int8_t side_ = 0;
   uint8_t overruns_ = 0;        // bins whose stages were not done before the next (tests: 0)
 
   int16_t ring_[kRingBins] = {};  // Smith predictor: model's undelayed rise per bin − offset, °C × 16
   uint8_t duty_ring_[kRingBins] = {};  // mean duty per bin, 255 = 100 %
   StoredCycle stored_[kMaxStoredCycles] = {};
+  // compute_chunk's own figures, reached through one pointer (near() in autotune.cpp): their
+  // place in the object then costs nothing.
+  struct Compute {
+    int32_t k_q8;  // K: °C × 256 per unit duty
+    int32_t a_hi, a_lo, log, ln, lambda, mean_q8, duty;  // temporaries
+    uint32_t theta;
+    int32_t t_sum_q8, l_sum_q8;
+    uint8_t tl_count;
+  };
+  Compute c_ = {};
 
   AutotuneCycle cycle_{0, 0, 0, 0};
   AutotuneUltimate ultimate_{0, 0};

@@ -39,6 +39,7 @@ constexpr int32_t kCoolDropQ8 = 3 * kQ8;        // a hot start waits for this mu
 constexpr int32_t kAssumedSlopeQ8PerS = 20 * kQ8;  // worst-case heating rate for the first pulse
 constexpr int32_t kSettleBandQ8 = kQ8 / 2;  // |target − reading| for the relay to start
 constexpr int32_t kAmplitudeQ8 = kQ8 * 3 / 2;   // relay half amplitude aimed at
+constexpr uint8_t kSettlingCycles = 1;          // relay cycles before the measured ones
 constexpr int32_t kHysteresisQ8 = kQ8 / 5;       // relay switches at target ± 0.2 °C (filtered)
 constexpr int32_t kTrendNoiseQ8 = 4;            // untrusted trend: a 4-bin slope under 1/64 °C/bin is noise (σ 0.2 °C: ±0.025)
 constexpr int32_t kPeakDropQ8 = kQ8 / 8;        // probe: past the peak once this far below it (smoothed)
@@ -956,7 +957,7 @@ void Autotune::end_cycle(uint16_t t_lo) {
   cycle_.bias = static_cast<uint8_t>((uint32_t{bias_q16_} * 255 + 32768) >> 16);
   cycle_.d = static_cast<uint8_t>((uint32_t{d_q16_} * 255 + 32768) >> 16);
   ++cycle_index_;
-  if (cycle_index_ > 1) {
+  if (cycle_index_ > kSettlingCycles) {
     // The first and last measured cycles' sums: the relay's drift between them (compute).
     if (first_ticks_ == 0) {
       first_dev_ = cyc_sum_dev_;
@@ -986,7 +987,6 @@ void Autotune::end_cycle(uint16_t t_lo) {
 // 1: Ku; 2: Tu and the event; 3: the bias; 4: d and what comes next. ≤ one division each.
 uint8_t Autotune::cycle_stage(uint8_t stage) {
   const uint32_t a = static_cast<uint32_t>(cyc_a_q8_);
-  constexpr uint8_t skip = 1;
   if (stage == 1) {
     // Ku = 4·d/(π·a) on the 0..255 scale = d_q16·324.68/a_q8 (× 256 for q8); d_q16 ≤ 65535 and
     // 32,468 < 2^15: product < 2^31; 100·a < 2^23.
@@ -996,7 +996,7 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
   if (stage == 2) {
     ultimate_.tu_q8 = seconds_q8(period_ticks_);
     event_ = AutotuneEvent::kCycle;
-    if (cycle_index_ > skip) {
+    if (cycle_index_ > kSettlingCycles) {
       event_ = AutotuneEvent::kUltimate;  // cycle_ is valid too
       ku_sum_q8_ += static_cast<uint32_t>(ultimate_.ku_q8);
       tu_sum_q8_ += static_cast<uint32_t>(ultimate_.tu_q8);
@@ -1015,7 +1015,7 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
   if (d > 2u * d_q16_) d = 2u * d_q16_;
   if (d < d_q16_ / 2u) d = d_q16_ / 2u;
   d_q16_ = clamp_step(d);
-  if (cycle_index_ >= skip + nofan_measure_) {
+  if (cycle_index_ >= kSettlingCycles + nofan_measure_) {
     stage_ = 0;  // the relay's bin stages (if any) do not belong to the next phase
     inv_t_nofan_q16_ = inv_t_q16_;  // the relay's drift correction (compute), with or without F
     if (measure_fan_) {

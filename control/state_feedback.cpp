@@ -95,6 +95,7 @@ inline int32_t to_q16(int32_t temp_q8) { return clamp_abs(temp_q8, kSignalLimit 
 bool StateFeedback::configure(const StateFeedbackConstants& k) {
   if (!state_feedback_constants_valid(k)) return false;
   k_ = k;
+  follows_fan_ = k.decimation > state_feedback_min_decimation(k.delay);
   configured_ = true;
   reset();
   return true;
@@ -125,6 +126,10 @@ void StateFeedback::prime(int32_t measured_q8, uint16_t duty_q16, bool zero_bias
   for (uint8_t j = 0; j <= kSfMaxDelay; ++j) hist_[j] = duty_q15;
   head_ = 0;
   duty_q16_ = duty_q16;
+  // Until the first law update the primed duty holds, the fan's share in it (follow_fan adds 0).
+  net_q16_ = duty_q16;
+  rise_q8_ = 0;
+  fan_full_q16_ = 0;
   phase_ = k_.delay > 0 ? 2 : 0;  // predictor sum first (its chunks), then the first law update
   primed_ = true;
 }
@@ -148,8 +153,34 @@ uint16_t StateFeedback::step(const StepInput& in) {
     time_update();
   } else if (static_cast<uint8_t>(phase - 2) * kSfFirChunk < k_.delay) {
     fir_chunk(phase - 2);
+  } else {
+    // A call with nothing else to do: the fan's share follows the airflow between law updates
+    // (a law period is up to 32 s; a fan step held back that long came back as a dip one dead
+    // time later), and its full-airflow value is computed here, off the law update's cycles.
+    fan_full_q16_ = static_cast<uint16_t>(fan_share(rise_q8_, 255));
+    if (in.fan_duty != fan_seen_) follow_fan(in.fan_duty);
   }
-  return duty_q16_;  // held for the whole law period (ZOH at decimation × 128 ms)
+  return duty_q16_;  // the law's part held for the whole law period (ZOH at decimation × 128 ms)
+}
+
+// Known part-fan loss gain·fan·rise in duty Q16 (0..65535): rise_q8 < 2^19 (y is clamped to
+// ±2^27 in Q16), × fan ≤ 255 < 2^27 for mulhi16.
+__attribute__((always_inline)) inline int32_t StateFeedback::fan_share(int32_t rise_q8, uint8_t fan_duty) const {
+  if (k_.fan_gain == 0 || fan_duty == 0 || rise_q8 <= 0) return 0;
+  const int32_t q16 = scale(mulhi16_call(k_.fan_gain, rise_q8 * fan_duty),
+                            static_cast<int8_t>(exponent(k_.fan_shift) + k_.input_shift));
+  return q16 < 0 ? 0 : (q16 > 65535 ? 65535 : q16);
+}
+
+__attribute__((noinline)) int32_t StateFeedback::follow_fan(uint8_t fan_duty) {
+  fan_seen_ = fan_duty;
+  // fan_full·fan·257/2^16 = fan_full·fan/255: both factors < 2^16, the product fits 32 bits;
+  // |net| ≤ 2^27, so the sum fits int32.
+  const int32_t fan_q16 =
+      static_cast<int32_t>((static_cast<uint32_t>(fan_full_q16_) * static_cast<uint16_t>(fan_duty * 257u) + 32768u) >> 16);
+  const int32_t applied = net_q16_ + fan_q16;
+  duty_q16_ = static_cast<uint16_t>(applied < 0 ? 0 : (applied > 65535 ? 65535 : applied));
+  return fan_q16;
 }
 
 void StateFeedback::law_update(const StepInput& in) {
@@ -179,18 +210,26 @@ void StateFeedback::law_update(const StepInput& in) {
   if (k_.delay > 0)
     u -= scale(fir_, static_cast<int8_t>(static_cast<int8_t>(k_.fir_shift) + p - 9));
   u = clamp_abs(u, kSignalLimit);
-  // Known part-fan loss (gain·fan·rise, duty Q16) added with weight 1: the fan's cooling reaches
-  // the sensor through the same dead time as the heater, so the extra duty applied now cancels
-  // it as it arrives and the loop (model, history, predictor) never sees the fan.
-  int32_t fan_q16 = 0;
-  if (k_.fan_gain != 0 && in.fan_duty != 0 && y > 0) {
-    const int32_t rise_fan = (y >> 8) * static_cast<int32_t>(in.fan_duty);  // °C Q8 × 0..255
-    fan_q16 = scale(mulhi16_call(k_.fan_gain, rise_fan), static_cast<int8_t>(exponent(k_.fan_shift) + p));
-    fan_q16 = fan_q16 < 0 ? 0 : (fan_q16 > 65535 ? 65535 : fan_q16);
+  // Known part-fan loss added with weight 1: the fan's cooling reaches the sensor through the
+  // same dead time as the heater, so the extra duty applied now cancels it as it arrives and the
+  // loop (model, history, predictor) never sees the fan.
+  int32_t fan_q16;
+  int32_t applied;
+  if (follows_fan_) {
+    // Idle calls keep the share on the airflow between law updates, and compute its full-airflow
+    // value from this rise, off this call's cycles (it is one law period old here).
+    rise_q8_ = y >> 8;
+    net_q16_ = u;
+    fan_q16 = follow_fan(in.fan_duty);
+    applied = duty_q16_;
+  } else {
+    // No idle call (a law period of at most 4 calls, 512 ms): the share is held with the law.
+    // The 5-state seed000 design has ~10 cycles to spare here: no more work on this path.
+    fan_q16 = fan_share(y >> 8, in.fan_duty);
+    applied = u + fan_q16;
+    applied = applied < 0 ? 0 : (applied > 65535 ? 65535 : applied);
+    duty_q16_ = static_cast<uint16_t>(applied);
   }
-  int32_t applied = u + fan_q16;
-  applied = applied < 0 ? 0 : (applied > 65535 ? 65535 : applied);
-  duty_q16_ = static_cast<uint16_t>(applied);
   // The model's input is what the heater really did net of the fan: it is negative when the
   // heater is off with the fan on (history in signed Q15, ±100 %; floor keeps 65535 in range).
   head_ = head_ == kSfMaxDelay ? 0 : head_ + 1;

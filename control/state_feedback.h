@@ -44,6 +44,8 @@ class StateFeedback final : public Controller {
   void law_update(const StepInput& in);
   void time_update();
   void fir_chunk(uint8_t chunk);
+  int32_t fan_share(int32_t rise_q8, uint8_t fan_duty) const;  // the fan's loss as duty Q16
+  int32_t follow_fan(uint8_t fan_duty);  // duty_q16_ = the law's net duty + the fan's share (returned)
   int16_t history(uint8_t j) const;  // v[k−j] (duty Q15), k = the last law update
 
   // Scalars first: AVR's LDD/STD reach offsets 0..63 only (k_ is 174 bytes).
@@ -58,6 +60,13 @@ class StateFeedback final : public Controller {
   int32_t x_q16_[kSfMaxStates] = {};
   uint32_t residual_[kSfMaxStates] = {};  // time-update bits below Q16, carried (no dead band)
   int16_t hist_[kSfMaxDelay + 1] = {};    // ring of effective inputs v (duty minus fan), Q15
+  // The fan's share between law updates (follow_fan), last: the law's members above keep their
+  // offsets.
+  int32_t net_q16_ = 0;                   // the last law update's duty net of the fan (Q16, ±)
+  int32_t rise_q8_ = 0;                   // the sensor's rise above the model's ambient then, °C Q8
+  uint16_t fan_full_q16_ = 0;             // the fan's share at 100 % airflow, from that rise
+  uint8_t fan_seen_ = 0;                  // the airflow duty_q16_ holds the share for
+  bool follows_fan_ = false;              // the law period has idle calls to follow the fan in
 };
 
 }  // namespace control

@@ -25,6 +25,9 @@ class ReferenceController {
     bias_ = rise / d_.dc_gain - duty;
     for (int j = 0; j <= control::kSfMaxDelay; ++j) hist_[j] = duty;
     duty_ = duty;
+    net_ = duty;  // until the first law update the primed duty holds (its fan share included)
+    rise_ = 0;
+    fan_full_ = 0;
     primed_ = true;
     phase_ = dd_start();  // as the fixed-point runtime: predictor sum first, then the law
   }
@@ -37,7 +40,13 @@ class ReferenceController {
       return duty_;  // the runtime primes in a call of its own
     }
     if (phase_ != 0) {
+      const int phase = phase_;
       phase_ = phase_ + 1 >= d_.decimation ? 0 : phase_ + 1;
+      if (phase >= 2 && (phase - 2) * control::kSfFirChunk >= d_.zoh.delay) {
+        // An idle call: the fan's share follows the fan, from the last law update's rise.
+        fan_full_ = fan_loss_per_k_ * rise_;
+        duty_ = clamp01(net_ + fan_full_ * fan);
+      }
       return duty_;
     }
     phase_ = d_.decimation > 1 ? 1 : 0;
@@ -55,9 +64,13 @@ class ReferenceController {
     double v = d_.m * (target_c - amb) - d_.g_d * bias_;
     for (int i = 0; i < n; ++i) v -= d_.lx(0, i) * x_[i];
     for (int j = 1; j <= dd; ++j) v -= d_.h[j - 1] * hist_[j];
-    const double fan_duty = fan_loss_per_k_ * fan * (y > 0 ? y : 0);
-    const double u0 = v + fan_duty;
-    const double u = u0 < 0 ? 0 : (u0 > 1 ? 1 : u0);
+    // With idle calls in the law period the share follows the fan between law updates, its
+    // full-fan value one law period old here (as the runtime computes it in those calls).
+    const bool follows = d_.decimation > control::state_feedback_min_decimation(static_cast<uint8_t>(dd));
+    const double fan_duty = follows ? fan_full_ * fan : fan_loss_per_k_ * fan * (y > 0 ? y : 0);
+    rise_ = y > 0 ? y : 0;
+    net_ = v;
+    const double u = clamp01(v + fan_duty);
     hist_[0] = u - fan_duty;
     // Time update with the applied (clamped) effective input: nothing winds up in saturation.
     const double ua = hist_[dd] + bias_;
@@ -75,6 +88,7 @@ class ReferenceController {
   }
 
   double bias() const { return bias_; }
+  static double clamp01(double u) { return u < 0 ? 0 : (u > 1 ? 1 : u); }
   int dd_start() const { return d_.zoh.delay > 0 ? 2 : 0; }
   double state(int i) const { return x_[i]; }
 
@@ -85,6 +99,7 @@ class ReferenceController {
   double bias_ = 0;
   double hist_[control::kSfMaxDelay + 1] = {};  // hist_[j] = v[k−j], heater minus fan loss
   double duty_ = 0;
+  double net_ = 0, rise_ = 0, fan_full_ = 0;  // the fan's share between law updates
   int phase_ = 0;
   bool primed_ = false;
 };

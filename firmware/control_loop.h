@@ -4,6 +4,7 @@
 #pragma once
 #include <stdint.h>
 
+#include "control/fan_airflow.h"
 #include "control/model_check.h"
 #include "firmware/controller_autotune.h"
 #include "firmware/controller_settings.h"
@@ -35,6 +36,8 @@ class ControlLoop {
   void sync_protection(const Settings& s);
   // M999: the model check and the watch start over.
   void restart_protection();
+  // The part fan's pin, and the airflow the next period's controllers see (control/fan_airflow.h).
+  void set_fan_duty(uint8_t duty);
 
  private:
   // Latches `fault` (heater off at once) and ends an M303; false if a fault was already latched.
@@ -44,6 +47,7 @@ class ControlLoop {
   RangeGuard guard_;
   ThermalWatch watch_;
   control::ModelCheck check_;
+  control::FanAirflow airflow_;  // the part fan's airflow, lagging its pin
   control::HotendModel check_model_{0, 0, 0, 0};  // what check_ was configured with
   uint8_t check_tuned_ = 0xFF;                    // 0xFF: never configured
   uint8_t check_threshold_c_ = 0;

@@ -62,7 +62,7 @@ void ControllerBank::commit(const Settings& next, const HandOver& now) {
     if (!autotuning_) reference().configure(next.model, kControlPeriodMs);
   }
   settings_ = next;
-  prepare_feedforward(ff_target_q8_, ff_fan_);  // model or F may have changed
+  prepare_feedforward(ff_target_q8_);  // model or F may have changed
   take_over(now);
 }
 
@@ -142,24 +142,37 @@ void ControllerBank::sync_staging() {
   sf_staging() = sf_loaded_ ? sf_.constants() : control::StateFeedbackConstants{};
 }
 
-void ControllerBank::prepare_feedforward(int32_t target_q8, uint8_t fan_duty) {
+void ControllerBank::prepare_feedforward(int32_t target_q8) {
   ff_target_q8_ = target_q8;
-  ff_fan_ = fan_duty;
   // F0 still gets the part fan's share (PID and fuzzy-PID): the fan is a measured load with a
   // known loss (M307 F), and behind a 20 s dead time feedback alone sees it 20 s late (SIMC PI:
   // 28–45 °C dips on the seeds). Marlin's PID_FAN_SCALING adds a fan term for the same reason.
   // The Marlin-style baseline keeps Marlin's default (none).
-  uint16_t ff_q16 = 0;
+  uint16_t no_fan_q16 = 0;
+  uint16_t full_fan_q16 = 0;
   uint16_t base_q16 = 0;
   if (settings_.feedforward != 0) {
-    ff_q16 = feedforward_.duty_q16(target_q8, fan_duty);
+    no_fan_q16 = feedforward_.duty_q16(target_q8, 0);
+    full_fan_q16 = feedforward_.duty_q16(target_q8, 255);
   } else if (settings_.model_tuned != 0 && active_id() != ControllerId::kMarlinPid) {
     base_q16 = feedforward_.duty_q16(target_q8, 0);
-    if (fan_duty != 0) ff_q16 = static_cast<uint16_t>(feedforward_.duty_q16(target_q8, fan_duty) - base_q16);
+    full_fan_q16 = static_cast<uint16_t>(feedforward_.duty_q16(target_q8, 255) - base_q16);
   }
   // Kept for step_fuzzy's model heat-up with F0 (a division per period there took the fuzzy
   // step to 2,994 cycles on seed000-5).
   base_q16_ = base_q16;
+  ff_no_fan_q16_ = no_fan_q16;
+  ff_fan_span_q16_ = static_cast<uint16_t>(full_fan_q16 - no_fan_q16);  // >= 0: duty_q16 grows with the fan
+  follow_fan(ff_fan_);
+}
+
+// The fan's share follows the airflow (linear in it: Feedforward::duty_q16), so a fan step
+// costs one multiply per period, not a prepare: span·airflow·257/2^16 = span·airflow/255
+// (exact at 0 and 255); span < 2^16 and airflow·257 < 2^16, so the product fits 32 bits.
+void ControllerBank::follow_fan(uint8_t airflow) {
+  ff_fan_ = airflow;
+  const uint32_t share = static_cast<uint32_t>(ff_fan_span_q16_) * static_cast<uint16_t>(airflow * 257u);
+  const uint16_t ff_q16 = static_cast<uint16_t>(ff_no_fan_q16_ + static_cast<uint16_t>((share + 32768u) >> 16));
   if (ff_q16 != ff_q16_) ff_applied_ = false;
   ff_q16_ = ff_q16;
 }
@@ -184,7 +197,8 @@ uint16_t ControllerBank::step(const control::StepInput& in) {
 __attribute__((noinline)) uint16_t ControllerBank::step_pid_family(const control::StepInput& in) {
   const ControllerId id = active_id();
   // The PID family's model feedforward (0 with M310 F0), handed over only when it changed.
-  if (in.target_q8 != ff_target_q8_ || in.fan_duty != ff_fan_) prepare_feedforward(in.target_q8, in.fan_duty);
+  if (in.target_q8 != ff_target_q8_) prepare_feedforward(in.target_q8);
+  if (in.fan_duty != ff_fan_) follow_fan(in.fan_duty);
   if (settings_.feedforward != 0 && id == ControllerId::kPid) return step_model_following(in);
   if (id == ControllerId::kFuzzyPid && (settings_.feedforward != 0 || settings_.model_tuned != 0)) return step_fuzzy(in);
   const bool update = !ff_applied_;

@@ -51,11 +51,12 @@ class ControllerBank final : public control::Controller {
   bool state_feedback_loaded() const { return sf_loaded_; }
   const control::StateFeedbackConstants& state_feedback_constants() const { return sf_.constants(); }
 
-  // The model feedforward for this target and part-fan duty, computed now (~600 AVR cycles
-  // of multiplies) rather than in the control step: the machine calls it on M104/M109 and
-  // M106/M107 (settings changes recompute it themselves). step() recomputes it only if its
-  // input differs from the last prepared one.
-  void prepare_feedforward(int32_t target_q8, uint8_t fan_duty);
+  // The model feedforward for this target, without and with the part fan, computed now (~600
+  // AVR cycles of multiplies) rather than in the control step: the machine calls it on
+  // M104/M109 (settings changes recompute it themselves). step() recomputes it only if the
+  // target differs from the last prepared one; the fan's share follows StepInput::fan_duty
+  // (the airflow, control/fan_airflow.h) every period.
+  void prepare_feedforward(int32_t target_q8);
 
   // control::Controller: the active one, with the feedforward of its family.
   uint16_t step(const control::StepInput& in) override;
@@ -82,6 +83,7 @@ class ControllerBank final : public control::Controller {
   void sync_staging();
 
  private:
+  void follow_fan(uint8_t airflow);  // the feedforward's fan share for this airflow
   control::Controller* active();
   uint16_t step_pid_family(const control::StepInput& in);
   uint16_t step_model_following(const control::StepInput& in);
@@ -121,7 +123,9 @@ class ControllerBank final : public control::Controller {
   bool sf_loaded_ = false;
   int32_t ff_target_q8_ = -1;  // input of the prepared feedforward (-1: none yet)
   uint16_t base_q16_ = 0;     // F0 with a measured model: its steady duty at ff_target_q8_, no fan
-  uint8_t ff_fan_ = 0;
+  uint16_t ff_no_fan_q16_ = 0;    // feedforward at ff_target_q8_ without the fan (0 when F0)
+  uint16_t ff_fan_span_q16_ = 0;  // what the fan adds at 100 % airflow
+  uint8_t ff_fan_ = 0;            // airflow ff_q16_ is for
   uint16_t ff_q16_ = 0;        // prepared feedforward duty (0 when M310 F0)
   bool ff_applied_ = false;    // the active controller holds its feedforward (PID with F1: model_ff_q16_)
   uint16_t model_ff_q16_ = 0;  // the model's duty the PID holds with F1

@@ -88,8 +88,8 @@ void HotendMachine::background(gcode::Output& out) {
   // controllers take over only from the next target (HandOver: not heating).
   if (tune_.ended()) heater_.set_target_q8(0);
   if (!tune_.report(out, HandOver{loop_.temp_q8(), 0, false})) return;  // true only once ended
-  hal::fan_pwm::set_duty(tune_.fan_to_restore());
-  bank_.prepare_feedforward(0, tune_.fan_to_restore());
+  loop_.set_fan_duty(tune_.fan_to_restore());
+  bank_.prepare_feedforward(0);
 }
 
 const gcode::FlashText* HotendMachine::set_target_q8(int32_t target_q8) {
@@ -98,7 +98,7 @@ const gcode::FlashText* HotendMachine::set_target_q8(int32_t target_q8) {
     tune_.stop(AutotuneJob::Stop::kUser);  // M104 S0: the report ends the job, heater off now
   }
   const gcode::FlashText* refusal = heater_.set_target_q8(target_q8);
-  if (refusal == nullptr) bank_.prepare_feedforward(target_q8, hal::fan_pwm::duty());
+  if (refusal == nullptr) bank_.prepare_feedforward(target_q8);
   return refusal;
 }
 
@@ -116,8 +116,7 @@ const gcode::FlashText* HotendMachine::set_pid_gains(const gcode::PidGainsQ16& g
 
 void HotendMachine::set_fan_duty(uint8_t duty) {
   if (tune_.busy()) return tune_.set_fan_to_restore(duty);  // the tune drives the fan until it ends
-  hal::fan_pwm::set_duty(duty);
-  bank_.prepare_feedforward(heater_.target_q8(), duty);  // fan feedforward from the next period
+  loop_.set_fan_duty(duty);  // the controllers follow its airflow from the next period
 }
 
 // The G-code layer prints the Error line for M112 itself.

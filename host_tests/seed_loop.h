@@ -101,12 +101,11 @@ inline Figures run(const SeedPlant& plant, const std::string& controller, std::v
   double steady_min = 1e9, steady_max = -1e9, steady_sum = 0;
   int steady_n = 0;
   uint8_t fan = 0;
-  bank.prepare_feedforward(target_q8, fan);
+  bank.prepare_feedforward(target_q8);
   for (int k = 0; k < periods; ++k) {
     if (k == fan_period) {
       fan = 255;
-      p.set_fan(1.0);
-      bank.prepare_feedforward(target_q8, fan);
+      p.set_fan(1.0);  // the bank follows the fan from the step's input
     }
     const double measured_c = p.measured_c();
     const int32_t measured_q8 = static_cast<int32_t>(std::lround(measured_c * 256));

@@ -94,7 +94,7 @@ TEST(ControllerBankAutotune, WhatTheLoopCallsDuringATuneLeavesTheEngineAlone) {
   bank.reset();
   bank.init_bumpless(200L * 256, 30000);
   EXPECT_EQ(bank.step({210L * 256, 200L * 256, 0}), 0);
-  bank.prepare_feedforward(0, 255);
+  bank.prepare_feedforward(0);
   EXPECT_EQ(bank.replace_all(firmware::default_settings(), nullptr, {200L * 256, 30000, true}), nullptr);
   EXPECT_EQ(std::memcmp(before, &engine, sizeof before), 0);
   bank.end_autotune();

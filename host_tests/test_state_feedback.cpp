@@ -89,6 +89,40 @@ TEST(StateFeedback, PrimesThenHoldsTheDutyForTheLawPeriod) {
   EXPECT_EQ(last, 65535);  // far below target: full power
 }
 
+// A fan step between two law updates: the fan's share follows it in the law period's idle calls
+// (seed002: law every 6 calls, 2 of them idle) and the law's part stays held. At the target
+// the share is F·rise of duty (M307 F 42.6 %: ~0.175 at 210 °C); holding it to the next law
+// update came back as a dip one dead time later.
+TEST(StateFeedback, FanShareFollowsTheFanBetweenLawUpdates) {
+  Loop loop(plant(0), Scenario());
+  control::StateFeedback& sf = loop.controller();
+  ASSERT_TRUE(sf.configure(loop.constants()));
+  const control::StateFeedbackConstants& k = loop.constants();
+  ASSERT_GT(k.decimation, control::state_feedback_min_decimation(k.delay));  // has idle calls
+  ASSERT_NE(k.fan_gain, 0);
+  const int32_t at_q8 = 210 * 256;
+  const double steady = (210.0 - 25) / loop.design_result().dc_gain;
+  sf.init_bumpless(at_q8, static_cast<uint16_t>(steady * 65535));
+  // Run to a law update: priming starts the period at phase 2 (the predictor's chunks), so the
+  // law runs at call decimation − 2 and every decimation calls after it.
+  ASSERT_GT(k.delay, 0);
+  uint16_t u = 0;
+  for (int c = 0; c < 2 * k.decimation - 1; ++c) u = sf.step({at_q8, at_q8, 0});
+  const uint16_t held = u;
+  int first_change = -1;
+  for (int c = 0; c < k.decimation; ++c) {
+    u = sf.step({at_q8, at_q8, 255});
+    if (u != held && first_change < 0) first_change = c;
+  }
+  // Within the same law period (not only at the next law update, call decimation − 1 or later).
+  EXPECT_GE(first_change, 0);
+  EXPECT_LT(first_change, k.decimation - 1);
+  EXPECT_NEAR((u - held) / 65535.0, 0.426 * steady, 0.02);
+  // And back when the fan stops, again before the next law update.
+  for (int c = 0; c < k.decimation; ++c) u = sf.step({at_q8, at_q8, 0});
+  EXPECT_NEAR(u, held, 700);
+}
+
 // Take-over from another controller at a steady temperature: the first law output is the duty
 // that controller was giving, within 1 % of full scale.
 TEST(StateFeedback, BumplessStartContinuesTheGivenDuty) {

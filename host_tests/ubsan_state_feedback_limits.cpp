@@ -51,6 +51,9 @@ class Reference {
       time_update();
     } else if ((phase - 2) * control::kSfFirChunk < k_.delay) {
       fir_chunk(static_cast<uint8_t>(phase - 2));
+    } else {  // an idle call: the fan's share follows the airflow
+      fan_full_ = fan_share(rise_q8_, 255);
+      if (in.fan_duty != fan_seen_) follow_fan(in.fan_duty);
     }
     return duty_;
   }
@@ -96,6 +99,9 @@ class Reference {
     for (auto& h : hist_) h = static_cast<int16_t>(duty_q16 >> 1);
     head_ = 0;
     duty_ = duty_q16;
+    net_ = duty_q16;
+    rise_q8_ = 0;
+    fan_full_ = 0;
     phase_ = k_.delay > 0 ? 2 : 0;
     primed_ = true;
   }
@@ -120,15 +126,31 @@ class Reference {
     if (k_.delay > 0) u = v(u - scale(fir_, int(k_.fir_shift) + p - 9));
     u = clamp_abs(u, kSignalLimit);
     int64_t fan = 0;
-    if (k_.fan_gain != 0 && in.fan_duty != 0 && y > 0) {
-      const int64_t rise_fan = v((y >> 8) * in.fan_duty);
-      fan = scale(mulhi16(k_.fan_gain, rise_fan), exponent(k_.fan_shift) + p);
-      fan = std::min<int64_t>(std::max<int64_t>(fan, 0), 65535);
+    int64_t applied = 0;
+    if (k_.decimation > control::state_feedback_min_decimation(k_.delay)) {
+      rise_q8_ = y >> 8;
+      net_ = u;
+      fan = follow_fan(in.fan_duty);
+      applied = duty_;
+    } else {
+      fan = fan_share(y >> 8, in.fan_duty);
+      applied = std::min<int64_t>(std::max<int64_t>(v(u + fan), 0), 65535);
+      duty_ = static_cast<uint16_t>(applied);
     }
-    const int64_t applied = std::min<int64_t>(std::max<int64_t>(v(u + fan), 0), 65535);
-    duty_ = static_cast<uint16_t>(applied);
     head_ = head_ == kSfMaxDelay ? 0 : head_ + 1;
     hist_[head_] = static_cast<int16_t>((applied - fan) >> 1);
+  }
+
+  int64_t fan_share(int64_t rise_q8, uint8_t fan_duty) {
+    if (k_.fan_gain == 0 || fan_duty == 0 || rise_q8 <= 0) return 0;
+    const int64_t fan = scale(mulhi16(k_.fan_gain, v(rise_q8 * fan_duty)), exponent(k_.fan_shift) + k_.input_shift);
+    return std::min<int64_t>(std::max<int64_t>(fan, 0), 65535);
+  }
+  int64_t follow_fan(uint8_t fan_duty) {
+    fan_seen_ = fan_duty;
+    const int64_t fan = v((fan_full_ * (fan_duty * 257) + 32768) >> 16);
+    duty_ = static_cast<uint16_t>(std::min<int64_t>(std::max<int64_t>(v(net_ + fan), 0), 65535));
+    return fan;
   }
 
   void time_update() {
@@ -171,6 +193,8 @@ class Reference {
   uint8_t phase_ = 0;
   uint16_t duty_ = 0;
   bool primed_ = false;
+  int64_t net_ = 0, rise_q8_ = 0, fan_full_ = 0;  // the fan's share between law updates
+  uint8_t fan_seen_ = 0;
 };
 
 int16_t extreme(std::mt19937& rng) {
@@ -201,7 +225,8 @@ StateFeedbackConstants at_limits(std::mt19937& rng) {
   k.n = static_cast<uint8_t>(1 + rng() % kSfMaxStates);
   k.output_mask = static_cast<uint8_t>(1 + rng() % ((1u << k.n) - 1));
   k.delay = static_cast<uint8_t>(rng() % 2 ? kSfMaxDelay : rng() % (kSfMaxDelay + 1));
-  k.decimation = control::state_feedback_min_decimation(k.delay);
+  // Half the time idle calls too (the fan's share follows the airflow in them).
+  k.decimation = static_cast<uint8_t>(control::state_feedback_min_decimation(k.delay) + (rng() % 2 ? 0 : 1 + rng() % 3));
   k.input_shift = static_cast<uint8_t>(rng() % 2 ? 10 : rng() % 11);
   k.ambient_q8 = rng() % 2 ? control::kSfMaxAmbientQ8 : control::kSfMinAmbientQ8;
   auto shift = [&](int max) { return static_cast<uint8_t>(rng() % 3 == 0 ? 0 : rng() % (max + 1)); };

@@ -14,7 +14,6 @@ namespace firmware {
 __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
   hal::step_marker::begin();
   const uint16_t ran_q16 = heater_.duty_q16();  // the duty of the period that just ended
-  const uint8_t airflow = airflow_.airflow();  // what the fan feedforward and the model check see
   temp_q8_ = sensor::adc_q6_to_temp_q8(adc_q6);
   Fault fault = guard_.update(adc_q6, temp_q8_);
   const bool plausible = fault == Fault::kNone && !guard_.reading_bad();
@@ -31,22 +30,19 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
     duty_q16 = heater_.hold(tune_.step(temp_q8_, &fan_duty));
     hal::fan_pwm::set_duty(fan_duty);
   } else {
-    duty_q16 = heater_.step(temp_q8_, airflow);
+    duty_q16 = heater_.step(temp_q8_, airflow_.airflow());  // the fan feedforward follows the airflow
   }
   hal::heater_pwm::set_duty_q16(duty_q16);
   hal::step_marker::end();
 
   // The watchdog is kicked here and only here: if control periods stop, the board resets.
   hal::watchdog::kick();
-  // Outside the timed step (the 5-state state feedback's step has ~50 cycles to spare): the
-  // next period sees the airflow one period on, with the duty the pin has now.
-  airflow_.step(hal::fan_pwm::duty());
   // The model check runs after the duty is out, outside the timed step: inside it measured
   // +1,220 cycles mean, +1,600 max (pid+ff, ATmega2560, simavr) — past the 3,000-cycle budget; a fault it finds switches the
   // heater off in this same period. It sees the duty that ran (M303's too) and runs with the
   // heater off as well: a heater stuck on is found with no target set.
   if (plausible && !newly_latched) {
-    const control::ModelCheck::Verdict verdict = check_.step(temp_q8_, ran_q16, airflow);
+    const control::ModelCheck::Verdict verdict = check_.step(temp_q8_, ran_q16, airflow_.airflow());
     if (verdict == control::ModelCheck::Verdict::kHeatsTooMuch) {
       fault = Fault::kStuckOn;
     } else if (verdict == control::ModelCheck::Verdict::kHeatsTooLittle) {
@@ -60,6 +56,9 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
     }
   }
   if (newly_latched) unreported_ = static_cast<uint16_t>(unreported_ | (1u << static_cast<uint8_t>(fault)));
+  // Outside the timed step (the 5-state state feedback's has ~10 cycles to spare): the next
+  // period's airflow, with the duty the pin has now (M106 before then retargets it).
+  airflow_.step(hal::fan_pwm::duty());
 }
 
 void ControlLoop::set_fan_duty(uint8_t duty) {

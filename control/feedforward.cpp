@@ -6,10 +6,11 @@ namespace {
 // The lead rule ignores this much of the reading's lead over the model (noise, quantisation,
 // a small mismatch of an exact FOPDT's fit).
 constexpr int32_t kLeadSlackQ8 = 1L * 256;
-// The lead rule only where D is shorter than this: on seed000-4/-5 (D 127–163 s) the slow
-// approach it leaves moves their steady error into the window the feedback then has to correct
-// (measured on the host rig: mean −2.4 °C on seed000-5, which passes without it).
-constexpr int32_t kLeadMaxDeadTimeQ8 = 64L * 256;
+// From this D on, full power ends 5/16 of the lead early instead of ¾: on seed000-4 (D 163 s,
+// 35 °C of lead at t = D) ¾ ended it at 0.77 of the model's time and left the steady window
+// 0.7 °C low with 2.2 °C p-p; 1/4…7/16 pass HIL3 there, 5/16 by the widest margin (host rig,
+// seed_loop.h). seed003 (D 9.9 s) needs the ¾: 5/16 overshot 2.2–3.3 °C.
+constexpr int32_t kLeadLongDeadTimeQ8 = 64L * 256;
 // x coasting on the steady duty rests on the target from this close (°C × 65536).
 constexpr int32_t kLeadSnapQ16 = 1L << 16;
 
@@ -66,12 +67,12 @@ void ModelReference::configure(const HotendModel& m, uint16_t period_ms) {
   // 2·D (on a lag-type plant the heat still stored is in the lags the fit folded into D; on
   // seed003 D alone left 1.9–2.0 °C of overshoot, C 0.5–1.0 °C and a slow end, and a C-based
   // time slowed hotend40w's heat-up, whose C is its block's 245 s), at least 1 s (rate() needs
-  // a time constant ≥ h). Off (mantissa 0) for D ≥ kLeadMaxDeadTimeQ8, and for D < C/8: a lag
-  // that short stores little beyond the model's heat (hotend40w, D/C 0.02: the rule only made
-  // its heat-up 13 % slower; seed003's fit has D/C 0.28).
+  // a time constant ≥ h). Off (mantissa 0) for D < C/8: a lag that short stores little beyond
+  // the model's heat (hotend40w, D/C 0.02: the rule only made its heat-up 13 % slower; seed003's
+  // and seed000-4's fits have D/C 0.28, seed000-5's 0.11).
   const int32_t d = m.dead_time_q8;
-  const bool lead_rule = d < kLeadMaxDeadTimeQ8 && 8 * d >= m.time_constant_q8;
-  coast_ = lead_rule ? rate(2 * d > 256 ? 2 * d : 256, period_ms) : Rate{0, false};
+  coast_ = 8 * d >= m.time_constant_q8 ? rate(2 * d > 256 ? 2 * d : 256, period_ms) : Rate{0, false};
+  lead_share_16ths_ = d >= kLeadLongDeadTimeQ8 ? 5 : 12;
   full_q16_ = (kFeedforwardAmbientQ8 + m.rise_q8) << 8;
   // α·A in q16: rise_q8·256 < 2^28, so scaled() holds it; ≥ 1 for every valid model
   // (α ≥ 2^-24·mantissa, A ≥ 10 °C).
@@ -118,8 +119,8 @@ ModelReference::Output ModelReference::step(int32_t target_q8, uint16_t steady_q
       const int32_t lead_q8 = measured_q8 - reference_q8_ - kLeadSlackQ8;
       if (lead_q8 > lead_q8_) lead_q8_ = lead_q8;
     }
-    // ¾ of the lead, q16: ≤ 2^28.
-    const int32_t early_q16 = (lead_q8_ - (lead_q8_ >> 2)) << 8;
+    // ¾ of the lead, or 5/16 for a long D, q16: lead_q8 < 2^20 (|difference| above), so < 2^28.
+    const int32_t early_q16 = lead_q8_ * lead_share_16ths_ * 16;
     // The update is linear in the duty u: Δx(u) = Δx(0) + u·α·A. Heating at full power (or
     // cooling with the heater off) until x would pass the target; that update lands x on it with
     // u = (target − x − Δx(0)) / (α·A), from the full-power step less the overshoot it would

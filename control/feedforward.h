@@ -69,11 +69,12 @@ class Feedforward {
 // x in "q16" (°C × 65536), taps and reference temp_q8. α is mantissa_q16 / 2^16, or / 2^24 when
 // α < 1/256, so that C = 600 s keeps 12 significant bits. The x update and the reference
 // update alternate (one multiply-add pair per period: ~150 AVR cycles).
-// Lead rule (lag-type fits, C/8 ≤ D < 64 s, heating): a FOPDT cannot respond before its dead
+// Lead rule (lag-type fits, D ≥ C/8, heating): a FOPDT cannot respond before its dead
 // time, so a reading that runs ahead of the reference shows lags the two-point fit folded into
-// D, which store more heat than the fit predicts (seed003: 9–10 °C of overshoot). Full power
-// then ends ¾ × (lead − 1 °C) earlier, and x approaches the target on the steady duty with a
-// 2·D time constant instead of landing on it (docs/controllers.md).
+// D, which store more heat than the fit predicts (seed003: 9–10 °C of overshoot, seed000-4 7 °C).
+// Full power then ends ¾ × (lead − 1 °C) earlier (5/16 × for D ≥ 64 s), and x approaches the
+// target on the steady duty with a 2·D time constant instead of landing on it
+// (docs/controllers.md).
 class ModelReference {
  public:
   static constexpr uint8_t kTaps = 16;  // a power of two (ring index by mask); 64 B of RAM
@@ -126,10 +127,11 @@ class ModelReference {
   uint8_t newest_ = 0;
   bool odd_ = false;
   bool landing_ = false;              // duty_q16_ is the update's landing duty, not full/off
+  uint8_t lead_share_16ths_ = 12;     // the lead rule's share of the lead (configure)
   // Lead rule (issue 7): the most the reading has run ahead of the model's output during this
   // heat-up, less kLeadSlackQ8. A FOPDT cannot respond before its dead time; a plant that does
   // stores heat in lags the two-point fit folded into D, and the full-power phase ends
-  // ¾ × lead earlier (docs/controllers.md). temp_q8, ≥ 0.
+  // ¾ (long D: 5/16) × lead earlier (docs/controllers.md). temp_q8, ≥ 0.
   int32_t lead_q8_ = 0;
 };
 

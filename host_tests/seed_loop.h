@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -42,7 +43,7 @@ inline std::vector<SeedPlant> seed_plants() {
 inline tuning::Fopdt fopdt_fit(const design::LtiModel& m) {
   design::PlantSim p(m);
   std::vector<double> t{0.0}, y{m.ambient_c};
-  for (int k = 1; k <= 20000; ++k) {  // 0.2 s samples, 4,000 s: seed000 settles in ~1 h
+  for (int k = 1; k <= 100000; ++k) {  // 0.2 s samples, 20,000 s as sim/default_gains.cpp (seed000-5's tail)
     p.run(1.0, 0.2);
     t.push_back(0.2 * k);
     y.push_back(p.true_c());
@@ -73,9 +74,17 @@ struct Figures {
   }
 };
 
+// The plant's fit, computed once per plant (20,000 s of step response: ~0.5 s each).
+inline tuning::Fopdt cached_fit(const SeedPlant& plant) {
+  static std::map<std::string, tuning::Fopdt> fits;
+  const auto found = fits.find(plant.name);
+  if (found != fits.end()) return found->second;
+  return fits[plant.name] = fopdt_fit(plant.model);
+}
+
 // controller: "pid", "pid+ff", "fuzzy", "fuzzy+ff".
 inline Figures run(const SeedPlant& plant, const std::string& controller, std::vector<double>* trace = nullptr) {
-  const tuning::Fopdt fit = fopdt_fit(plant.model);
+  const tuning::Fopdt fit = cached_fit(plant);
   const bool ff = controller.find("+ff") != std::string::npos;
   const bool fuzzy = controller.rfind("fuzzy", 0) == 0;
   firmware::Settings s = firmware::default_settings();

@@ -172,9 +172,9 @@ TEST(ModelReference, TheLastCoolingUpdateLandsOnTheTarget) {
 namespace {
 
 // The lead rule (issue 7): a reading that runs ahead of the model's output during the heat-up
-// (a lag-type plant whose fit folded lags into D) ends full power earlier, by ¾ of the lead;
-// a reading that follows the model (an exact FOPDT) changes nothing, and a fit with D < C/8
-// (hotend40w) or D ≥ 64 s (seed000) keeps the plain time-optimal heat-up.
+// (a lag-type plant whose fit folded lags into D) ends full power earlier, by ¾ of the lead
+// (5/16 for D ≥ 64 s); a reading that follows the model (an exact FOPDT) changes nothing, and
+// a fit with D < C/8 (hotend40w, seed000-5) keeps the plain time-optimal heat-up.
 int full_power_updates(const HotendModel& m, double lead_c) {
   ModelReference r;
   r.configure(m, kPeriodMs);
@@ -196,8 +196,11 @@ TEST(ModelReference, AReadingAheadOfTheModelEndsFullPowerEarlyOnLagTypeFits) {
   EXPECT_EQ(full_power_updates(seed003_fit, 0.9), plain);        // within the 1 °C slack
   // 31 °C ahead: ¾ × 30 °C above the slack ends full power where x is 22.5 °C short of 210 °C.
   EXPECT_NEAR(full_power_updates(seed003_fit, 31) * kH, 35.06 * std::log(450.0 / 287.5), 0.3);
+  // seed000-4's fit (D 163 s): 5/16 × 30 °C, x 9.375 °C short.
+  const HotendModel seed000_4_fit{to_q8(450), to_q8(582.4), to_q8(163.4), 0};
+  EXPECT_NEAR(full_power_updates(seed000_4_fit, 31) * kH, 582.4 * std::log(450.0 / 274.375), 0.5);
   for (const HotendModel& m : {HotendModel{to_q8(588.2), to_q8(245.6), to_q8(4.6), 0},
-                               HotendModel{to_q8(450), to_q8(582.4), to_q8(163.4), 0}})
+                               HotendModel{to_q8(450), to_q8(1177.8), to_q8(126.7), 0}})
     EXPECT_EQ(full_power_updates(m, 31), full_power_updates(m, 0));
 }
 

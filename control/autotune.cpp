@@ -56,6 +56,7 @@ constexpr uint8_t kPeakDropSigmaQ4 = 14;
 constexpr uint8_t kHysteresisSigmaQ4 = 12;
 constexpr uint8_t kTrendSigmaQ4 = 3;
 constexpr uint8_t kLossDropSigmaQ4 = 64;
+constexpr uint8_t kDriftSigmaQ4 = 6;
 constexpr int32_t kGuardMarginQ8 = 2 * kQ8;     // untrusted model: relay's trend limit above target
 constexpr uint16_t kMinDutyStepQ16 = 328;       // d ≥ 0.5 %
 constexpr uint16_t kMaxDutyStepQ16 = 16384;     // d ≤ 25 %
@@ -865,15 +866,30 @@ uint8_t Autotune::relay_stage(uint8_t stage) {
     uint32_t wait = static_cast<uint32_t>(horizon_ticks_) + 4 * kTicksPerBin;
     if (wait < longest_half_) wait = longest_half_;  // a slow hotend's halves are long anyway
     if (half_ticks_ < wait || uint32_t{half_ticks_} - last_nudge_ < wait) return 0;
+    // Moving away only beyond the noise: a 4-bin slope past 3 σ of its own noise (σ/8), else a
+    // noisy bin (σ 0.5 °C: one in ~14) moved fopdt-120-25's levels past the steady duty, a swing
+    // to S + 6.8 °C. Or stalled: on the far side and, since the switch or the last nudge (≥ 2 ×
+    // the wait), approaching at under a quarter of the S·d a level d off ū gives (a slow mode
+    // creeping at 0.005 °C/s; the noise used to nudge such a relay by chance).
+    // S·d < 2^15 · 2^14 >> 16 < 2^13, × since < 2^16: < 2^29; progress < 2^15, × 32 < 2^20.
     const int32_t s4 = div2n<2>(y_bin_q8_ - y_hist_q8_[3]);  // per bin
-    const bool away = relay_hi_ ? (s4 < 0 && y_bin_q8_ < target_q8_) : (s4 > 0 && y_bin_q8_ > target_q8_);
-    if (!away) return 0;
+    const int32_t ds_min = noise_floor(0, kDriftSigmaQ4);
+    const bool far = relay_hi_ ? y_bin_q8_ < target_q8_ : y_bin_q8_ > target_q8_;
+    const bool away = relay_hi_ ? s4 < -ds_min : s4 > ds_min;
+    const int32_t progress = relay_hi_ ? y_bin_q8_ - stall_ref_q8_ : stall_ref_q8_ - y_bin_q8_;
+    const uint32_t since = uint32_t{half_ticks_} - last_nudge_;
+    const uint32_t rate = (static_cast<uint32_t>(slope_q8_) * d_q16_) >> 16;  // q8 per bin
+    const bool stalled = since >= 2 * wait && 4 * int32_t{kTicksPerBin} * progress < static_cast<int32_t>(rate * since);
+    if (!far || !(away || stalled)) return 0;
+    stall_ref_q8_ = y_bin_q8_;
     last_nudge_ = half_ticks_;
     // Near the target ẏ = S·u − rise/T, so the steady duty there is ū = (u − ẏ/S)·rise_target/rise.
     const int32_t level = relay_hi_ ? bias_q16_ + d_q16_ : bias_q16_ - d_q16_;
-    const uint32_t ds = static_cast<uint32_t>(abs32(s4));
+    // (A stall's slope, within the noise, is taken as 0: noise over a slow hotend's small S moved
+    // the bias by several d.)
+    const uint32_t ds = away ? static_cast<uint32_t>(abs32(s4)) : 0u;
     const int32_t shift = static_cast<int32_t>(((ds > 32767 ? 32767 : ds) << 16) / static_cast<uint32_t>(slope_q8_));
-    pending_q8_ = relay_hi_ ? level + shift : level - shift;
+    pending_q8_ = s4 < 0 ? level + shift : level - shift;
     return 4;
   }
   const int32_t u = pending_q8_;
@@ -916,6 +932,7 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
     if (yf < cyc_min_q8_) cyc_min_q8_ = yf;
     if (yf > target_q8_ + hysteresis && half_ticks_ >= min_half) {
       sw_hi_q8_ = yf;
+      stall_ref_q8_ = yf;
       t_hi_ = half_ticks_;
       if (half_ticks_ > longest_half_) longest_half_ = half_ticks_;
       half_ticks_ = 0;
@@ -926,6 +943,7 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
     if (yf > cyc_max_q8_) cyc_max_q8_ = yf;
     if (yf < target_q8_ - hysteresis && half_ticks_ >= min_half) {
       sw_lo_q8_ = yf;
+      stall_ref_q8_ = yf;
       const uint16_t t_lo = half_ticks_;
       if (half_ticks_ > longest_half_) longest_half_ = half_ticks_;
       half_ticks_ = 0;

@@ -439,9 +439,19 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     return 4;
   }
   if (stage == 4) {
-    // S: the steepest slope of the response, or the whole rise over the pulse when the pulse was
-    // too short for a clean slope.
-    pending_q8_ = p.dev_peak_q8 * kTicksPerBin / (p.on_ticks > 0 ? p.on_ticks : 1);
+    // The pulse's peak height above a steady baseline. A sharp peak (fast FOPDT) is the highest
+    // reading: the bins round it off by more than 3 σ, and few readings lie near its top to lift
+    // it by their noise. A flat one (the highest bin within 3 σ of it; slow hotends: many
+    // readings near the top, whose highest is lifted by ~2 σ, and the measured σ reads ~10 %
+    // low) is the highest bin (σ/√8). The max is a real reading here (the cut path has readings
+    // between the cut and the peak), so the subtraction cannot wrap.
+    probe_max_q8_ -= ambient_q8_ + p.base_rise_q8;
+    if (p.dev_peak_q8 > probe_max_q8_ - 3 * static_cast<int32_t>(noise_q8_)) probe_max_q8_ = p.dev_peak_q8;
+    // S: that height over the pulse (a hot start or a retry: the highest bin, against its own
+    // decaying or tail-lifted baseline). The bin alone read seed002's S 3.6 % low, ū as much
+    // high: the approach overshot by 3.7 °C at σ 0 and up to 5.2 °C at σ 0.5.
+    const int32_t peak = hot_start_ || p.retries != 0 ? p.dev_peak_q8 : probe_max_q8_;
+    pending_q8_ = peak * kTicksPerBin / (p.on_ticks > 0 ? p.on_ticks : 1);
     return 5;
   }
   if (stage == 5) {
@@ -458,15 +468,8 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     appr_.full_bins = 0;
     // Cut-to-peak time (the FOPDT's dead time): the peak is at the centre of the highest bin.
     horizon_ticks_ = static_cast<int32_t>(p.peak_bin) * kTicksPerBin - kTicksPerBin / 2 - static_cast<int32_t>(p.off_tick);
-    // The pulse's peak height above a steady baseline (compute: C from it); 0 when the baseline
-    // was not steady (hot start: decaying; a retry: the earlier pulses' tails). A sharp peak
-    // (fast FOPDT) is the highest reading: the bins round it off by more than 3 σ, and few
-    // readings lie near its top to lift it by their noise. A flat one (the highest bin within
-    // 3 σ of it; slow hotends: many readings near the top, whose highest is lifted by ~2 σ, and
-    // the measured σ reads ~10 % low) is the highest bin (σ/√8). The max is a real reading here
-    // (the cut path has readings between the cut and the peak), so the subtraction cannot wrap.
-    probe_max_q8_ -= ambient_q8_ + p.base_rise_q8;
-    if (p.dev_peak_q8 > probe_max_q8_ - 3 * static_cast<int32_t>(noise_q8_)) probe_max_q8_ = p.dev_peak_q8;
+    // The peak height (stage 4) for compute's C; 0 when the baseline was not steady (hot start:
+    // decaying; a retry: the earlier pulses' tails).
     if (hot_start_ || p.retries != 0) probe_max_q8_ = 0;
     return 20;
   }

@@ -54,7 +54,8 @@ constexpr int32_t kPeakDropQ8 = kQ8 / 8;        // probe: past the peak once thi
 constexpr uint8_t kDetectSigmaQ4 = 48;
 constexpr uint8_t kPeakDropSigmaQ4 = 14;
 constexpr uint8_t kHysteresisSigmaQ4 = 12;
-constexpr uint8_t kTrendSigmaQ4 = 3;
+constexpr uint8_t kTrendSigmaQ4 = 2;
+constexpr uint8_t kNearSigmaQ4 = 128;
 constexpr uint8_t kLossDropSigmaQ4 = 64;
 constexpr uint8_t kDriftSigmaQ4 = 6;
 constexpr int32_t kGuardMarginQ8 = 2 * kQ8;     // untrusted model: relay's trend limit above target
@@ -804,7 +805,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // A P law on a slightly wrong loss stalls short of the target, and the loss learning's
       // resolution (≈ 0.02 °C/bin of slope) may not move it (heavy-slow in simavr: 209.0 °C for
       // an hour). Within 2 °C for 3 (L̂ + 2) bins is near enough: the relay's bias takes over.
-      ap.near_bins = abs32(target_q8_ - y_bin_q8_) < 4 * kSettleBandQ8 ? static_cast<uint8_t>(ap.near_bins < 255 ? ap.near_bins + 1 : 255) : 0;
+      ap.near_bins = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? noise_floor(4 * kSettleBandQ8, kNearSigmaQ4) : 4 * kSettleBandQ8) ? static_cast<uint8_t>(ap.near_bins < 255 ? ap.near_bins + 1 : 255) : 0;
       // Crossings of the target (±0.3 °C): a slow hotend that the approach leaves swinging around
       // it goes to the relay at the second crossing, whose bias adaptation takes over.
       const int8_t side = y_bin_q8_ > target_q8_ + kQ8 * 3 / 10 ? 1 : (y_bin_q8_ < target_q8_ - kQ8 * 3 / 10 ? -1 : 0);

@@ -48,9 +48,12 @@ constexpr int32_t kPeakDropQ8 = kQ8 / 8;        // probe: past the peak once thi
 // realisations): detection 3 σ (a bin mean's σ is σ/√8: 8.5 of those, so a slow creep plus noise
 // does not pass for a response: seed000-4 at σ 0.3 took its first pulse's creep for one, L̂ 68 s
 // against 250 s, +24 °C), the peak's drop 0.875 σ (4 × the 1-2-1 smoothed bins' 0.22 σ), the
-// relay's hysteresis 0.75 σ (1.5 × the 4-reading mean's σ/2), the trend's dead band 3σ/16 (1.5 ×
-// the 4-bin slope's σ/8: its noise held seed000's approach short of the target), the decay that
-// measures the loss 4 σ (the highest bin is itself lifted by the noise).
+// relay's hysteresis 0.75 σ (1.5 × the 4-reading mean's σ/2), the trend's dead band 2σ/16 (1 ×
+// the 4-bin slope's σ/8: its noise held seed000's approach short of the target; 3σ/16 hid 11.6 °C
+// of trend over 132 bins at σ 0.5, S + 5.9 °C), an untrusted approach's "near" band 8 σ (its
+// guard's false alarms hold it 2–2.5 °C short at σ 0.5), the decay that measures the loss 4 σ (the
+// highest bin is itself lifted by the noise), the relay's drift away 6σ/16 (3 × the 4-bin slope's
+// σ/8: a noisy bin moved fopdt-120-25's bias past the steady duty, S + 6.8 °C).
 constexpr uint8_t kDetectSigmaQ4 = 48;
 constexpr uint8_t kPeakDropSigmaQ4 = 14;
 constexpr uint8_t kHysteresisSigmaQ4 = 12;
@@ -636,7 +639,7 @@ void Autotune::set_approach_gain() {
 }
 
 // Untrusted model: the reading a bin ahead by its 4-bin trend over guard_bins_ (rising only).
-// The slope less a dead band, kTrendNoiseQ8 or 3σ/16 of the measured reading noise: σ = 0.2 °C
+// The slope less a dead band, kTrendNoiseQ8 or 2σ/16 of the measured reading noise: σ = 0.2 °C
 // readings give the 4-bin slope σ ≈ 6 (Q8 per bin), × 132 bins ≈ ±3 °C of trend, which held
 // seed000-5's approach short of the target until the time limit. |s4| < 2^15 per bin, × ≤ 132.
 int32_t Autotune::trend_q8() const {
@@ -964,7 +967,10 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
   }
   set_levels();
   duty_q16_ = relay_hi_ ? static_cast<uint16_t>(bias_q16_ + d_q16_) : static_cast<uint16_t>(bias_q16_ - d_q16_);
-  if (guard_off_) duty_q16_ = 0;
+  if (guard_off_) {
+    duty_q16_ = 0;
+    guarded_ = true;
+  }
   return ended;
 }
 
@@ -974,6 +980,8 @@ void Autotune::end_cycle(uint16_t t_lo) {
   cyc_a_q8_ = div2n<1>(cyc_max_q8_ - cyc_min_q8_);
   if (cyc_a_q8_ < 1) cyc_a_q8_ = 1;
   cyc_duty_done_ = cyc_sum_duty_;
+  guarded_done_ = guarded_;
+  guarded_ = false;
   cycle_.min_q8 = cyc_min_q8_;
   cycle_.max_q8 = cyc_max_q8_;
   cycle_.bias = static_cast<uint8_t>((uint32_t{bias_q16_} * 255 + 32768) >> 16);
@@ -1027,9 +1035,11 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
     return 3;
   }
   if (stage == 3) {
-    // Adapt: bias = the cycle's mean duty (centres the oscillation).
+    // Adapt: bias = the cycle's mean duty (centres the oscillation), unless the trend guard cut
+    // the heater in it: its zeros are not the relay's (seed000-4 at σ 0.5: bias 0.11 against a
+    // steady 0.28, the reading 20 °C low for 830 s and the relay stopped switching).
     const uint32_t mean = cyc_duty_done_ / (period_ticks_ > 0 ? period_ticks_ : 1u);
-    bias_q16_ = static_cast<uint16_t>(mean > kFull ? kFull : mean);
+    if (!guarded_done_) bias_q16_ = static_cast<uint16_t>(mean > kFull ? kFull : mean);
     return 4;
   }
   // d towards ±1.5 °C: ≤ 2^16 · 384 < 2^25.

@@ -48,14 +48,19 @@ constexpr int32_t kPeakDropQ8 = kQ8 / 8;        // probe: past the peak once thi
 // realisations): detection 3 σ (a bin mean's σ is σ/√8: 8.5 of those, so a slow creep plus noise
 // does not pass for a response: seed000-4 at σ 0.3 took its first pulse's creep for one, L̂ 68 s
 // against 250 s, +24 °C), the peak's drop 0.875 σ (4 × the 1-2-1 smoothed bins' 0.22 σ), the
-// relay's hysteresis 0.75 σ (1.5 × the 4-reading mean's σ/2), the trend's dead band 3σ/16 (1.5 ×
-// the 4-bin slope's σ/8: its noise held seed000's approach short of the target), the decay that
-// measures the loss 4 σ (the highest bin is itself lifted by the noise).
+// relay's hysteresis 0.75 σ (1.5 × the 4-reading mean's σ/2), the trend's dead band 2σ/16 (1 ×
+// the 4-bin slope's σ/8: its noise held seed000's approach short of the target; 3σ/16 hid 11.6 °C
+// of trend over 132 bins at σ 0.5, S + 5.9 °C), an untrusted approach's "near" band 8 σ (its
+// guard's false alarms hold it 2–2.5 °C short at σ 0.5), the decay that measures the loss 4 σ (the
+// highest bin is itself lifted by the noise), the relay's drift away 6σ/16 (3 × the 4-bin slope's
+// σ/8: a noisy bin moved fopdt-120-25's bias past the steady duty, S + 6.8 °C).
 constexpr uint8_t kDetectSigmaQ4 = 48;
 constexpr uint8_t kPeakDropSigmaQ4 = 14;
 constexpr uint8_t kHysteresisSigmaQ4 = 12;
-constexpr uint8_t kTrendSigmaQ4 = 3;
+constexpr uint8_t kTrendSigmaQ4 = 2;
+constexpr uint8_t kNearSigmaQ4 = 128;
 constexpr uint8_t kLossDropSigmaQ4 = 64;
+constexpr uint8_t kDriftSigmaQ4 = 6;
 constexpr int32_t kGuardMarginQ8 = 2 * kQ8;     // untrusted model: relay's trend limit above target
 constexpr uint16_t kMinDutyStepQ16 = 328;       // d ≥ 0.5 %
 constexpr uint16_t kMaxDutyStepQ16 = 16384;     // d ≤ 25 %
@@ -438,9 +443,19 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     return 4;
   }
   if (stage == 4) {
-    // S: the steepest slope of the response, or the whole rise over the pulse when the pulse was
-    // too short for a clean slope.
-    pending_q8_ = p.dev_peak_q8 * kTicksPerBin / (p.on_ticks > 0 ? p.on_ticks : 1);
+    // The pulse's peak height above a steady baseline. A sharp peak (fast FOPDT) is the highest
+    // reading: the bins round it off by more than 3 σ, and few readings lie near its top to lift
+    // it by their noise. A flat one (the highest bin within 3 σ of it; slow hotends: many
+    // readings near the top, whose highest is lifted by ~2 σ, and the measured σ reads ~10 %
+    // low) is the highest bin (σ/√8). The max is a real reading here (the cut path has readings
+    // between the cut and the peak), so the subtraction cannot wrap.
+    probe_max_q8_ -= ambient_q8_ + p.base_rise_q8;
+    if (p.dev_peak_q8 > probe_max_q8_ - 3 * static_cast<int32_t>(noise_q8_)) probe_max_q8_ = p.dev_peak_q8;
+    // S: that height over the pulse (a hot start or a retry: the highest bin, against its own
+    // decaying or tail-lifted baseline). The bin alone read seed002's S 3.6 % low, ū as much
+    // high: the approach overshot by 3.7 °C at σ 0 and up to 5.2 °C at σ 0.5.
+    const int32_t peak = hot_start_ || p.retries != 0 ? p.dev_peak_q8 : probe_max_q8_;
+    pending_q8_ = peak * kTicksPerBin / (p.on_ticks > 0 ? p.on_ticks : 1);
     return 5;
   }
   if (stage == 5) {
@@ -457,15 +472,8 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     appr_.full_bins = 0;
     // Cut-to-peak time (the FOPDT's dead time): the peak is at the centre of the highest bin.
     horizon_ticks_ = static_cast<int32_t>(p.peak_bin) * kTicksPerBin - kTicksPerBin / 2 - static_cast<int32_t>(p.off_tick);
-    // The pulse's peak height above a steady baseline (compute: C from it); 0 when the baseline
-    // was not steady (hot start: decaying; a retry: the earlier pulses' tails). A sharp peak
-    // (fast FOPDT) is the highest reading: the bins round it off by more than 3 σ, and few
-    // readings lie near its top to lift it by their noise. A flat one (the highest bin within
-    // 3 σ of it; slow hotends: many readings near the top, whose highest is lifted by ~2 σ, and
-    // the measured σ reads ~10 % low) is the highest bin (σ/√8). The max is a real reading here
-    // (the cut path has readings between the cut and the peak), so the subtraction cannot wrap.
-    probe_max_q8_ -= ambient_q8_ + p.base_rise_q8;
-    if (p.dev_peak_q8 > probe_max_q8_ - 3 * static_cast<int32_t>(noise_q8_)) probe_max_q8_ = p.dev_peak_q8;
+    // The peak height (stage 4) for compute's C; 0 when the baseline was not steady (hot start:
+    // decaying; a retry: the earlier pulses' tails).
     if (hot_start_ || p.retries != 0) probe_max_q8_ = 0;
     return 20;
   }
@@ -631,7 +639,7 @@ void Autotune::set_approach_gain() {
 }
 
 // Untrusted model: the reading a bin ahead by its 4-bin trend over guard_bins_ (rising only).
-// The slope less a dead band, kTrendNoiseQ8 or 3σ/16 of the measured reading noise: σ = 0.2 °C
+// The slope less a dead band, kTrendNoiseQ8 or 2σ/16 of the measured reading noise: σ = 0.2 °C
 // readings give the 4-bin slope σ ≈ 6 (Q8 per bin), × 132 bins ≈ ±3 °C of trend, which held
 // seed000-5's approach short of the target until the time limit. |s4| < 2^15 per bin, × ≤ 132.
 int32_t Autotune::trend_q8() const {
@@ -800,7 +808,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // A P law on a slightly wrong loss stalls short of the target, and the loss learning's
       // resolution (≈ 0.02 °C/bin of slope) may not move it (heavy-slow in simavr: 209.0 °C for
       // an hour). Within 2 °C for 3 (L̂ + 2) bins is near enough: the relay's bias takes over.
-      ap.near_bins = abs32(target_q8_ - y_bin_q8_) < 4 * kSettleBandQ8 ? static_cast<uint8_t>(ap.near_bins < 255 ? ap.near_bins + 1 : 255) : 0;
+      ap.near_bins = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? noise_floor(4 * kSettleBandQ8, kNearSigmaQ4) : 4 * kSettleBandQ8) ? static_cast<uint8_t>(ap.near_bins < 255 ? ap.near_bins + 1 : 255) : 0;
       // Crossings of the target (±0.3 °C): a slow hotend that the approach leaves swinging around
       // it goes to the relay at the second crossing, whose bias adaptation takes over.
       const int8_t side = y_bin_q8_ > target_q8_ + kQ8 * 3 / 10 ? 1 : (y_bin_q8_ < target_q8_ - kQ8 * 3 / 10 ? -1 : 0);
@@ -865,15 +873,30 @@ uint8_t Autotune::relay_stage(uint8_t stage) {
     uint32_t wait = static_cast<uint32_t>(horizon_ticks_) + 4 * kTicksPerBin;
     if (wait < longest_half_) wait = longest_half_;  // a slow hotend's halves are long anyway
     if (half_ticks_ < wait || uint32_t{half_ticks_} - last_nudge_ < wait) return 0;
+    // Moving away only beyond the noise: a 4-bin slope past 3 σ of its own noise (σ/8), else a
+    // noisy bin (σ 0.5 °C: one in ~14) moved fopdt-120-25's levels past the steady duty, a swing
+    // to S + 6.8 °C. Or stalled: on the far side and, since the switch or the last nudge (≥ 2 ×
+    // the wait), approaching at under a quarter of the S·d a level d off ū gives (a slow mode
+    // creeping at 0.005 °C/s; the noise used to nudge such a relay by chance).
+    // S·d < 2^15 · 2^14 >> 16 < 2^13, × since < 2^16: < 2^29; progress < 2^15, × 32 < 2^20.
     const int32_t s4 = div2n<2>(y_bin_q8_ - y_hist_q8_[3]);  // per bin
-    const bool away = relay_hi_ ? (s4 < 0 && y_bin_q8_ < target_q8_) : (s4 > 0 && y_bin_q8_ > target_q8_);
-    if (!away) return 0;
+    const int32_t ds_min = noise_floor(0, kDriftSigmaQ4);
+    const bool far = relay_hi_ ? y_bin_q8_ < target_q8_ : y_bin_q8_ > target_q8_;
+    const bool away = relay_hi_ ? s4 < -ds_min : s4 > ds_min;
+    const int32_t progress = relay_hi_ ? y_bin_q8_ - stall_ref_q8_ : stall_ref_q8_ - y_bin_q8_;
+    const uint32_t since = uint32_t{half_ticks_} - last_nudge_;
+    const uint32_t rate = (static_cast<uint32_t>(slope_q8_) * d_q16_) >> 16;  // q8 per bin
+    const bool stalled = since >= 2 * wait && 4 * int32_t{kTicksPerBin} * progress < static_cast<int32_t>(rate * since);
+    if (!far || !(away || stalled)) return 0;
+    stall_ref_q8_ = y_bin_q8_;
     last_nudge_ = half_ticks_;
     // Near the target ẏ = S·u − rise/T, so the steady duty there is ū = (u − ẏ/S)·rise_target/rise.
     const int32_t level = relay_hi_ ? bias_q16_ + d_q16_ : bias_q16_ - d_q16_;
-    const uint32_t ds = static_cast<uint32_t>(abs32(s4));
+    // (A stall's slope, within the noise, is taken as 0: noise over a slow hotend's small S moved
+    // the bias by several d.)
+    const uint32_t ds = away ? static_cast<uint32_t>(abs32(s4)) : 0u;
     const int32_t shift = static_cast<int32_t>(((ds > 32767 ? 32767 : ds) << 16) / static_cast<uint32_t>(slope_q8_));
-    pending_q8_ = relay_hi_ ? level + shift : level - shift;
+    pending_q8_ = s4 < 0 ? level + shift : level - shift;
     return 4;
   }
   const int32_t u = pending_q8_;
@@ -916,6 +939,7 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
     if (yf < cyc_min_q8_) cyc_min_q8_ = yf;
     if (yf > target_q8_ + hysteresis && half_ticks_ >= min_half) {
       sw_hi_q8_ = yf;
+      stall_ref_q8_ = yf;
       t_hi_ = half_ticks_;
       if (half_ticks_ > longest_half_) longest_half_ = half_ticks_;
       half_ticks_ = 0;
@@ -926,6 +950,7 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
     if (yf > cyc_max_q8_) cyc_max_q8_ = yf;
     if (yf < target_q8_ - hysteresis && half_ticks_ >= min_half) {
       sw_lo_q8_ = yf;
+      stall_ref_q8_ = yf;
       const uint16_t t_lo = half_ticks_;
       if (half_ticks_ > longest_half_) longest_half_ = half_ticks_;
       half_ticks_ = 0;
@@ -942,7 +967,10 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
   }
   set_levels();
   duty_q16_ = relay_hi_ ? static_cast<uint16_t>(bias_q16_ + d_q16_) : static_cast<uint16_t>(bias_q16_ - d_q16_);
-  if (guard_off_) duty_q16_ = 0;
+  if (guard_off_) {
+    duty_q16_ = 0;
+    guarded_ = true;
+  }
   return ended;
 }
 
@@ -952,6 +980,8 @@ void Autotune::end_cycle(uint16_t t_lo) {
   cyc_a_q8_ = div2n<1>(cyc_max_q8_ - cyc_min_q8_);
   if (cyc_a_q8_ < 1) cyc_a_q8_ = 1;
   cyc_duty_done_ = cyc_sum_duty_;
+  guarded_done_ = guarded_;
+  guarded_ = false;
   cycle_.min_q8 = cyc_min_q8_;
   cycle_.max_q8 = cyc_max_q8_;
   cycle_.bias = static_cast<uint8_t>((uint32_t{bias_q16_} * 255 + 32768) >> 16);
@@ -1005,9 +1035,11 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
     return 3;
   }
   if (stage == 3) {
-    // Adapt: bias = the cycle's mean duty (centres the oscillation).
+    // Adapt: bias = the cycle's mean duty (centres the oscillation), unless the trend guard cut
+    // the heater in it: its zeros are not the relay's (seed000-4 at σ 0.5: bias 0.11 against a
+    // steady 0.28, the reading 20 °C low for 830 s and the relay stopped switching).
     const uint32_t mean = cyc_duty_done_ / (period_ticks_ > 0 ? period_ticks_ : 1u);
-    bias_q16_ = static_cast<uint16_t>(mean > kFull ? kFull : mean);
+    if (!guarded_done_) bias_q16_ = static_cast<uint16_t>(mean > kFull ? kFull : mean);
     return 4;
   }
   // d towards ±1.5 °C: ≤ 2^16 · 384 < 2^25.

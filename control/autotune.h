@@ -305,6 +305,7 @@ class Autotune {
   // trend over guard_bins_ below the target (+ a margin in the relay): slower, never above S + 5.
   bool untrusted_ = false;
   bool guard_off_ = false;      // relay and fan hold: heater off while the trend would carry the reading too high
+  bool guarded_ = false, guarded_done_ = false;  // the guard cut the heater in this / the completed relay cycle
   uint8_t guard_bins_ = 0;
 
   // Relay.
@@ -312,6 +313,7 @@ class Autotune {
   uint16_t last_nudge_ = 0;
   uint16_t t_hi_ = 0;
   int32_t sw_hi_q8_ = 0, sw_lo_q8_ = 0;
+  int32_t stall_ref_q8_ = 0;      // reading at the half's switch or its last nudge (stall test)
   uint16_t period_ticks_ = 0;    // the completed cycle's period (its end's stages)
   int32_t cyc_a_q8_ = 0;         // ... its half amplitude
   uint32_t cyc_duty_done_ = 0;   // ... its Σ duty

@@ -2,6 +2,7 @@
 // finishes, never above target + 5 °C, within the duration targets, and identifies K, T, L, F.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -325,20 +326,42 @@ TEST(AutotuneNoise, MeasuresTheReadingNoiseBeforeTheResponse) {
   }
 }
 
-TEST(AutotuneNoise, EveryPlantStaysWithinTargetPlus5AtSigma03And05) {
-  // σ 0.3 °C over four noise realisations, 0.5 °C over one (the others' misses at 0.5 are in
-  // docs/autotune.md). The seed000 tunes must also finish at 0.3 and 0.5 on the default one.
-  struct Case { double sigma; unsigned long long seed; };
-  for (const Case c : {Case{0.3, 12345}, Case{0.3, 2}, Case{0.3, 3}, Case{0.3, 4}, Case{0.5, 12345}}) {
+TEST(AutotuneNoise, EveryPlantFinishesWithinTargetPlus5AtSigma03) {
+  // σ 0.3 °C, C3, on two noise realisations (the σ 0.5 bank below runs all eight).
+  for (const unsigned long long seed : {2ULL, 3ULL}) {
     for (const Plant& p : plants()) {
-      const TuneRun r = run(p, 3, true, c.sigma, false, 1.0, -1, false, 1800, c.seed);
-      EXPECT_LE(r.max_c, p.target_c + 5.0) << p.name << " sigma " << c.sigma << " seed " << c.seed;
+      const TuneRun r = run(p, 3, true, 0.3, false, 1.0, -1, false, 1800, seed);
+      EXPECT_LE(r.max_c, p.target_c + 5.0) << p.name << " seed " << seed;
       EXPECT_EQ(r.overruns, 0) << p.name;
-      if (c.seed == 12345 && p.name.compare(0, 7, "seed000") == 0) {
-        EXPECT_EQ(r.state, AutotuneState::kFinished)
-            << p.name << " sigma " << c.sigma << " failure " << static_cast<int>(r.failure);
+      EXPECT_EQ(r.state, AutotuneState::kFinished) << p.name << " seed " << seed << " failure " << static_cast<int>(r.failure);
+    }
+  }
+}
+
+// The noisy bank: σ 0.5 °C (a noisy thermistor), M303's default C5, every plant over eight noise
+// realisations (AUTOTUNE_SEED's 12345 and 1–7). Before the noise-proof relay nudge, the peak-based
+// S and the tighter untrusted trend guard: 6 of these 120 runs above S + 5 °C (fopdt-120-25 6.8 /
+// 5.9, seed000-4 5.9 / 5.9, seed000-5 6.3, seed002 5.2) and 2 failed (seed000-4: the relay stopped
+// switching); now none above, and one still fails, safely below S + 5 (a known miss,
+// docs/autotune.md): seed000-5 on realisation 3 reaches the time limit (its untrusted approach
+// and relay crawl on the trend guard).
+TEST(AutotuneNoise, NoisyBankAtSigma05StaysWithinTargetPlus5AndFinishes) {
+  const std::set<std::string> known_fail = {"seed000-5/3"};
+  std::printf("%-16s %8s %8s\n", "plant", "max-S", "finished");
+  for (const Plant& p : plants()) {
+    double worst = -1e9;
+    int finished = 0;
+    for (const unsigned long long seed : {12345ULL, 1ULL, 2ULL, 3ULL, 4ULL, 5ULL, 6ULL, 7ULL}) {
+      const TuneRun r = run(p, 5, true, 0.5, false, 1.0, -1, false, 1800, seed);
+      worst = std::max(worst, r.max_c - p.target_c);
+      if (r.state == AutotuneState::kFinished) ++finished;
+      EXPECT_LE(r.max_c, p.target_c + 5.0) << p.name << " seed " << seed;
+      EXPECT_EQ(r.overruns, 0) << p.name << " seed " << seed;
+      if (!in(known_fail, p.name + "/" + std::to_string(seed))) {
+        EXPECT_EQ(r.state, AutotuneState::kFinished) << p.name << " seed " << seed << " failure " << static_cast<int>(r.failure);
       }
     }
+    std::printf("%-16s %8.2f %6d/8\n", p.name.c_str(), worst, finished);
   }
 }
 

@@ -90,6 +90,8 @@ struct AutotuneResult {
   bool hot_start;           // true when the tune started above ambient + 15 °C
   bool unsure;              // the probe's response outlasted the model history (seed000): a
                             // model to control with, not one to bound the heater tightly by
+  bool late_peak;           // a cold cut probe peaked 2.5–4 × the relay's D after the cut: a lag
+                            // the relay's FOPDT folded into too short a D (hotend40w-delay5)
 };
 
 class Autotune {
@@ -351,7 +353,7 @@ class Autotune {
 
   AutotuneCycle cycle_{0, 0, 0, 0};
   AutotuneUltimate ultimate_{0, 0};
-  AutotuneResult result_{{0, 0, 0, 0}, 0, {0, 0}, 0, false, false};
+  AutotuneResult result_{{0, 0, 0, 0}, 0, {0, 0}, 0, false, false, false};
 };
 
 }  // namespace control

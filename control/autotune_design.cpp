@@ -19,6 +19,15 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   const uint32_t t_q8 = static_cast<uint32_t>(tune.model.time_constant_q8);
   int32_t l_q8 = tune.model.dead_time_q8;
   if (tu_floors_dead_time(l_q8, tune.model.time_constant_q8, tune.ultimate.tu_q8)) l_q8 = tune.ultimate.tu_q8 / 4;
+  // A cut probe that peaked late (a lag the relay folded into D; not a seed000 unsure model):
+  // D ≥ 1.15·Tu/4. hotend40w-delay5 (host rig, 10 noise seeds at σ 0.1 °C): the relay's D
+  // (6.1–7.8 s) settles in 1.36–1.63 × bound; ×1.15 of Tu/4 1.14–1.19 × on 9 (×1.0: 2 of 10,
+  // ×1.1: 8, ×1.2: 9 at 1.17–1.20); the tenth, C read 27 % long, 1.6–1.7 × at any D.
+  // Tu < 2^26 (Q8, 72 h): Tu·23 fits int32.
+  if (tune.late_peak && !tune.unsure) {
+    const int32_t lifted_q8 = tune.ultimate.tu_q8 * 23 / 80;
+    if (lifted_q8 > l_q8) l_q8 = lifted_q8;
+  }
   // A lag-type hotend (the tune saw a thermistor lag): its FOPDT stands for two lags, and the
   // designs' dead-time predictor then overshoots unless L has a margin growing with lag/C:
   // L·(1 + 2.5·lag/C) (the board's state feedback on seed003, host: D 9.4 → 7.5 °C, 11.5 → 0.2,

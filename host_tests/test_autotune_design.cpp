@@ -84,6 +84,29 @@ TEST(AutotuneDesign, RelayQuarterPeriodLiftsTheDeadTimeOnlyWhereItMeansALag) {
   EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 24.93, 0.01);
 }
 
+// A cold cut probe that peaked late (a lag the relay folded into D): D ≥ 1.15·Tu/4 (host rig:
+// hotend40w-delay5 1.43–1.45 → 1.15–1.19 × bound, host_tests/test_autotune_after_u1.cpp), and
+// only there; an unsure model keeps its own rule.
+TEST(AutotuneDesign, ALatePeakLiftsTheDeadTimeTo1_15QuarterPeriods) {
+  control::AutotuneResult r = tune_of(615, 275.6, 6.37, 34.5);  // hotend40w-delay5, seed 12345
+  control::TunedDesign d;
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 6.37, 0.01);  // Tu/4 = 1.35 D: beyond the 1.25 D floor
+  r.late_peak = true;
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 1.15 * 34.5 / 4, 0.01);
+  EXPECT_FALSE(d.lag_paced);
+  r = tune_of(615, 275.6, 10.5, 34.5);  // a D already beyond 1.15·Tu/4 stays
+  r.late_peak = true;
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 10.5, 0.01);
+  r = tune_of(456, 1552.5, 73.9, 4 * 100);  // unsure (seed000): its 3/8, not the late peak's lift
+  r.late_peak = true;
+  r.unsure = true;
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 73.9 * 1.375, 0.01);
+}
+
 // An unsure model (seed000's: the probe's response outlasted the history) without a lag: D gets
 // 3/8 more; with a lag (heavy-slow) the lag's own margin only.
 TEST(AutotuneDesign, UnsureModelsWithoutALagGetADeadTimeMargin) {

@@ -151,12 +151,11 @@ inline Figures run(const Plant& p, const Applied& a, std::vector<double>* trace 
   double lo = 1e9, hi = -1e9, sum = 0;
   int n = 0;
   uint8_t fan = 0;
-  bank.prepare_feedforward(target_q8, fan);
+  bank.prepare_feedforward(target_q8);
   for (int k = 0; k < periods; ++k) {
     if (k == fan_k) {
       fan = 255;
-      sim.set_fan(1.0);
-      bank.prepare_feedforward(target_q8, fan);
+      sim.set_fan(1.0);  // the bank follows the fan from the step's input
     }
     const int32_t measured_q8 = static_cast<int32_t>(std::lround(sim.measured_c() * 256));
     const uint16_t duty_q16 = bank.step(control::StepInput{target_q8, measured_q8, fan});

@@ -967,10 +967,7 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
   }
   set_levels();
   duty_q16_ = relay_hi_ ? static_cast<uint16_t>(bias_q16_ + d_q16_) : static_cast<uint16_t>(bias_q16_ - d_q16_);
-  if (guard_off_) {
-    duty_q16_ = 0;
-    guarded_ = true;
-  }
+  if (guard_off_) duty_q16_ = 0;
   return ended;
 }
 
@@ -980,8 +977,6 @@ void Autotune::end_cycle(uint16_t t_lo) {
   cyc_a_q8_ = div2n<1>(cyc_max_q8_ - cyc_min_q8_);
   if (cyc_a_q8_ < 1) cyc_a_q8_ = 1;
   cyc_duty_done_ = cyc_sum_duty_;
-  guarded_done_ = guarded_;
-  guarded_ = false;
   cycle_.min_q8 = cyc_min_q8_;
   cycle_.max_q8 = cyc_max_q8_;
   cycle_.bias = static_cast<uint8_t>((uint32_t{bias_q16_} * 255 + 32768) >> 16);
@@ -1035,11 +1030,13 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
     return 3;
   }
   if (stage == 3) {
-    // Adapt: bias = the cycle's mean duty (centres the oscillation), unless the trend guard cut
-    // the heater in it: its zeros are not the relay's (seed000-4 at σ 0.5: bias 0.11 against a
-    // steady 0.28, the reading 20 °C low for 830 s and the relay stopped switching).
+    // Adapt: bias = the cycle's mean duty (centres the oscillation), the trend guard's zeros
+    // included. Keeping the bias after a guarded cycle instead finished seed000-4's tune on two
+    // more noise realisations on the host (σ 0.5 °C), but in simavr left its relay off-centre
+    // (bias 77 for three cycles): D 38 s where it read 66, and the state feedback U1 designed on
+    // it held a 18 °C limit cycle (9 °C overshoot, then settled, with the bias adapted).
     const uint32_t mean = cyc_duty_done_ / (period_ticks_ > 0 ? period_ticks_ : 1u);
-    if (!guarded_done_) bias_q16_ = static_cast<uint16_t>(mean > kFull ? kFull : mean);
+    bias_q16_ = static_cast<uint16_t>(mean > kFull ? kFull : mean);
     return 4;
   }
   // d towards ±1.5 °C: ≤ 2^16 · 384 < 2^25.

@@ -307,7 +307,6 @@ class Autotune {
   // trend over guard_bins_ below the target (+ a margin in the relay): slower, never above S + 5.
   bool untrusted_ = false;
   bool guard_off_ = false;      // relay and fan hold: heater off while the trend would carry the reading too high
-  bool guarded_ = false, guarded_done_ = false;  // the guard cut the heater in this / the completed relay cycle
   uint8_t guard_bins_ = 0;
 
   // Relay.

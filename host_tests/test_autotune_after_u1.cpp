@@ -69,7 +69,8 @@ TEST(AutotuneAfterU1, TransportDelayedHotendSettlesWithin1_2BoundOverNoiseSeeds)
   }
 }
 
-// A table, not a check (as Autotune.Table): per noise seed the tuned model and the figures of
+// A table (as Autotune.Table), whose check is the baseline it sweeps from: the tune finished and
+// the board designed from it. Per noise seed the tuned model and the figures of
 // the one-state state feedback (paced or not) and of the PID following the model, with the
 // design's D replaced by D × factor (AUTOTUNE_SWEEP_TU: Tu/4 × factor). By default
 // hotend40w-delay5, one seed; AUTOTUNE_SWEEP="plant,plant", AUTOTUNE_FACTORS="1,1.2",
@@ -101,7 +102,8 @@ TEST(AutotuneAfterU1, DeadTimeSweepTable) {
       const char* nenv = std::getenv("AUTOTUNE_SWEEP_NOISE");
       const Figures b = after_u1::after_u1(*p, seed, nenv ? std::atof(nenv) : 0.1, &r, &sf);
       control::TunedDesign d;
-      control::design_from_tune(r, 128, &d);
+      ASSERT_TRUE(control::hotend_model_valid(r.model)) << p->name << " seed " << seed;
+      ASSERT_TRUE(control::design_from_tune(r, 128, &d)) << p->name << " seed " << seed;
       std::printf("%s seed %llu: A %.0f C %.1f D %.2f lag %.2f Tu %.2f Ku %.2f unsure %d late %d [rho %.2f Tu/4D %.2f D/C %.3f lag/C %.3f] -> design D %.2f paced %d | U1 %s: os %.2f set %.2fx pp %.3f dip %.2f%s\n",
                   p->name.c_str(), seed, r.model.rise_q8 / 256.0, r.model.time_constant_q8 / 256.0,
                   r.model.dead_time_q8 / 256.0, r.sensor_lag_q8 / 256.0, r.ultimate.tu_q8 / 256.0,

@@ -41,4 +41,26 @@ bool tu_floors_dead_time(int32_t dead_time_q8, int32_t time_constant_q8, int32_t
 // Pid::valid (nothing in *out is meaningful then).
 bool design_from_tune(const AutotuneResult& tune, uint16_t period_ms, TunedDesign* out);
 
+// Which controller M303 U1 selects (measured over the plant bank, docs/bench): state feedback
+// unless the dead time is at least half the time constant, or at least an eighth of it with no
+// thermistor lag seen; there the PID following the model's heat-up overshot less (seed002: 0.02
+// vs 1.69 °C; fopdt-delay25 with D 3 % short: 0.28 vs 2.63 °C, 0.99 vs 1.40 × bound). With a
+// lag (seed003, heavy-slow, hotend40w-delay5) it was the other way round.
+inline bool dead_time_leads(const AutotuneResult& tune, const TunedDesign& design) {
+  const int32_t dead_q8 = design.model.dead_time_q8;  // ≤ 600 s × 256 (M307's bound): 8× fits int32
+  return 2 * dead_q8 >= design.model.time_constant_q8 ||
+         (tune.sensor_lag_q8 == 0 && 8 * dead_q8 >= design.model.time_constant_q8);
+}
+
+// Whether the protection's model check may bound the heater tightly by the tuned model (M307's
+// "measured" flag). Not after a hot start: its loss and time constant come from a short decay
+// (fopdt-fast after M109 S200: C 39 s for 30 s), and the tight check tripped on the next
+// heat-up. Not for a lag-dominated hotend (thermistor lag > 5 % of C): a FOPDT reaches its full
+// slope sooner than two lags do, and the tight check tripped on seed003's first heat-up. Not for
+// a model from a probe whose response outlasted the history (seed000-4: D 44 s against a 163 s
+// dead time): tight bounds from it tripped on the first heat-up.
+inline bool tune_bounds_tightly(const AutotuneResult& tune) {
+  return !tune.hot_start && 20 * tune.sensor_lag_q8 <= tune.model.time_constant_q8 && !tune.unsure;
+}
+
 }  // namespace control

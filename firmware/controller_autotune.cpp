@@ -203,15 +203,7 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   control::StateFeedbackConstants sf;
   const bool sf_ok = control::design_state_feedback_fopdt(d.model, kControlPeriodMs, &sf, d.lag_paced);
   write_sf_summary(out, sf_ok ? &sf : nullptr);
-  // Which controller holds such a hotend best (measured over the plant bank, docs/bench): state
-  // feedback unless the dead time is at least half the time constant, or at least an eighth of it
-  // with no thermistor lag seen; there the PID following the model's heat-up overshot less
-  // (seed002: 0.02 vs 1.69 °C; fopdt-delay25 with D 3 % short: 0.28 vs 2.63 °C, 0.99 vs 1.40 ×
-  // bound). With a lag (seed003, heavy-slow, hotend40w-delay5) it was the other way round.
-  const int32_t dead_q8 = d.model.dead_time_q8;  // ≤ 600 s × 256 (M307's bound): 8× fits int32
-  const bool dead_time_led = 2 * dead_q8 >= d.model.time_constant_q8 ||
-                             (r.sensor_lag_q8 == 0 && 8 * dead_q8 >= d.model.time_constant_q8);
-  const bool use_sf = sf_ok && !dead_time_led;
+  const bool use_sf = sf_ok && !control::dead_time_leads(r, d);
   // "paced": designed no faster than D (hotend-sim's check of the board's M311 reads it).
   const gcode::FlashText* choice = !use_sf      ? GCODE_TEXT("M310 S0 F1 (PID following the model's heat-up), ")
                                    : d.lag_paced ? GCODE_TEXT("M310 S1 (state feedback, paced by D), ")
@@ -224,15 +216,7 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   }
   Settings next = bank_.settings();
   next.model = d.model;
-  // The protection's model check may now be tight, unless the tune started hot: its loss and
-  // time constant then come from a short decay (fopdt-fast after M109 S200: C 39 s for 30 s),
-  // and the tight check tripped on the next heat-up. Such a model keeps the default's margin.
-  next.model_tuned = r.hot_start ? 0 : 1;
-  // Likewise a lag-dominated hotend (thermistor lag > 5 % of C): a FOPDT reaches its full slope
-  // sooner than two lags do, and the tight check tripped on seed003's first heat-up.
-  // And a model from a probe whose response outlasted the history (seed000-4: D 44 s against
-  // a 163 s dead time): tight bounds from it tripped on the first heat-up.
-  if (20 * r.sensor_lag_q8 > r.model.time_constant_q8 || r.unsure) next.model_tuned = 0;
+  next.model_tuned = control::tune_bounds_tightly(r) ? 1 : 0;
   next.pid = d.pid;
   next.controller = static_cast<uint8_t>(use_sf ? ControllerId::kStateFeedback : ControllerId::kPid);
   next.feedforward = 1;

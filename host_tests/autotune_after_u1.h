@@ -107,21 +107,12 @@ struct Applied {
   bool sf_ok = false;
 };
 
-// The firmware's choice between the state feedback and the PID following the model, as
-// AutotuneJob::write_result makes it (kept in step with it by hand).
-inline bool state_feedback_chosen(const control::AutotuneResult& r, const control::TunedDesign& d, bool sf_ok) {
-  const int32_t dead_q8 = d.model.dead_time_q8;
-  const bool dead_time_led = 2 * dead_q8 >= d.model.time_constant_q8 ||
-                             (r.sensor_lag_q8 == 0 && 8 * dead_q8 >= d.model.time_constant_q8);
-  return sf_ok && !dead_time_led;
-}
-
 inline Applied applied(const control::AutotuneResult& r, const control::TunedDesign& d, bool use_sf) {
   Applied a;
   a.sf_ok = control::design_state_feedback_fopdt(d.model, firmware::kControlPeriodMs, &a.sf, d.lag_paced);
   a.settings = firmware::default_settings();
   a.settings.model = d.model;
-  a.settings.model_tuned = (r.hot_start || 20 * r.sensor_lag_q8 > r.model.time_constant_q8 || r.unsure) ? 0 : 1;
+  a.settings.model_tuned = control::tune_bounds_tightly(r) ? 1 : 0;
   a.settings.pid = d.pid;
   a.settings.controller =
       static_cast<uint8_t>(use_sf && a.sf_ok ? firmware::ControllerId::kStateFeedback : firmware::ControllerId::kPid);
@@ -196,7 +187,7 @@ inline Figures after_u1(const Plant& p, unsigned long long seed, double noise_c 
   if (!control::design_from_tune(r, firmware::kControlPeriodMs, &d)) return f;
   control::StateFeedbackConstants sf;
   const bool sf_ok = control::design_state_feedback_fopdt(d.model, firmware::kControlPeriodMs, &sf, d.lag_paced);
-  const bool use_sf = state_feedback_chosen(r, d, sf_ok);
+  const bool use_sf = sf_ok && !control::dead_time_leads(r, d);  // as AutotuneJob::write_result
   if (chose_sf) *chose_sf = use_sf;
   return run(p, applied(r, d, use_sf));
 }

@@ -21,6 +21,7 @@
 #include "design/seed_models.h"
 #include "firmware/controller_bank.h"
 #include "host_tests/controller_rig.h"
+#include "host_tests/heat_fan_step.h"
 
 namespace after_u1 {
 
@@ -125,7 +126,8 @@ struct Figures {
   double overshoot_c = 0, settling_s = 0, settling_ratio = 0, steady_pp_c = 0, steady_mean_c = 0, dip_c = 0;
 };
 
-// Heat-up from ambient to the target, hold, part fan 0 → 100 % at fan_s (HIL7's scenario).
+// Heat-up from ambient to the target, hold, part fan 0 → 100 % at fan_s (HIL7's scenario);
+// trace: heat_fan_step::run's.
 inline Figures run(const Plant& p, const Applied& a, std::vector<double>* trace = nullptr) {
   static firmware::ControllerBank bank{controller_test::load_cell};  // static: as the firmware's
   const firmware::HandOver cold{static_cast<int32_t>(std::lround(p.model.ambient_c * 256)), 0, false};
@@ -133,46 +135,15 @@ inline Figures run(const Plant& p, const Applied& a, std::vector<double>* trace 
   Figures f;
   if (a.sf_ok && !bank.load_state_feedback(a.sf, cold)) return f;
   if (bank.apply(a.settings, cold) != nullptr) return f;
-  design::PlantSim sim(p.model);
-  sim.set_noise(0.05);  // ~hotend-sim's ADC noise at 210 °C
-  const int32_t target_q8 = static_cast<int32_t>(std::lround(p.target_c * 256));
-  const int periods = static_cast<int>(p.run_s / kPeriodS);
-  const int fan_k = static_cast<int>(p.fan_s / kPeriodS);
-  const int steady_from = fan_k * 3 / 4;
-  double lo = 1e9, hi = -1e9, sum = 0;
-  int n = 0;
-  uint8_t fan = 0;
-  bank.prepare_feedforward(target_q8);
-  for (int k = 0; k < periods; ++k) {
-    if (k == fan_k) {
-      fan = 255;
-      sim.set_fan(1.0);  // the bank follows the fan from the step's input
-    }
-    const int32_t measured_q8 = static_cast<int32_t>(std::lround(sim.measured_c() * 256));
-    const uint16_t duty_q16 = bank.step(control::StepInput{target_q8, measured_q8, fan});
-    sim.run(duty_q16 / 65535.0, kPeriodS);
-    const double e = sim.true_c() - p.target_c;
-    if (trace) {
-      trace->push_back(e);
-      trace->push_back(duty_q16 / 65535.0);
-    }
-    if (k < fan_k) {
-      f.overshoot_c = std::max(f.overshoot_c, e);
-      if (std::fabs(e) > 1.0) f.settling_s = (k + 1) * kPeriodS;
-      if (k >= steady_from) {
-        lo = std::min(lo, e);
-        hi = std::max(hi, e);
-        sum += e;
-        ++n;
-      }
-    } else {
-      f.dip_c = std::max(f.dip_c, std::fabs(e));
-    }
-  }
-  f.ok = std::fabs(sim.true_c() - p.target_c) <= 1.0;
-  f.settling_ratio = f.settling_s / p.bound_s;
-  f.steady_pp_c = hi - lo;
-  f.steady_mean_c = n ? sum / n : 0;
+  // Noise ~hotend-sim's ADC noise at 210 °C.
+  const heat_fan_step::Result r = heat_fan_step::run(bank, p.model, p.target_c, p.fan_s, p.run_s, 0.05, trace);
+  f.ok = std::fabs(r.end_error_c) <= 1.0;
+  f.overshoot_c = r.overshoot_c;
+  f.settling_s = r.settling_s;
+  f.settling_ratio = r.settling_s / p.bound_s;
+  f.steady_pp_c = r.steady_pp_c;
+  f.steady_mean_c = r.steady_mean_c;
+  f.dip_c = r.dip_c;
   return f;
 }
 

@@ -16,8 +16,8 @@
 #include "design/seed_models.h"
 #include "design/tuning.h"
 #include "firmware/controller_bank.h"
-#include "firmware/thermal_watch.h"
 #include "host_tests/controller_rig.h"
+#include "host_tests/heat_fan_step.h"
 
 namespace seed_loop {
 
@@ -83,7 +83,7 @@ inline tuning::Fopdt cached_fit(const SeedPlant& plant) {
 }
 
 // controller: "pid", "pid+ff", "fuzzy", "fuzzy+ff".
-inline Figures run(const SeedPlant& plant, const std::string& controller, std::vector<double>* trace = nullptr) {
+inline Figures run(const SeedPlant& plant, const std::string& controller) {
   const tuning::Fopdt fit = cached_fit(plant);
   const bool ff = controller.find("+ff") != std::string::npos;
   const bool fuzzy = controller.rfind("fuzzy", 0) == 0;
@@ -101,49 +101,14 @@ inline Figures run(const SeedPlant& plant, const std::string& controller, std::v
     f.fault = firmware::Fault::kHeatingFailed;
     return f;
   }
-  firmware::ThermalWatch watch;
-  design::PlantSim p(plant.model);
-  const int32_t target_q8 = static_cast<int32_t>(std::lround(plant.target_c * 256));
-  const int periods = static_cast<int>(plant.run_s / kPeriodS);
-  const int fan_period = static_cast<int>(plant.fan_at_s / kPeriodS);
-  const int steady_from = fan_period * 3 / 4;
-  double steady_min = 1e9, steady_max = -1e9, steady_sum = 0;
-  int steady_n = 0;
-  uint8_t fan = 0;
-  bank.prepare_feedforward(target_q8);
-  for (int k = 0; k < periods; ++k) {
-    if (k == fan_period) {
-      fan = 255;
-      p.set_fan(1.0);  // the bank follows the fan from the step's input
-    }
-    const double measured_c = p.measured_c();
-    const int32_t measured_q8 = static_cast<int32_t>(std::lround(measured_c * 256));
-    const uint16_t duty_q16 = bank.step(control::StepInput{target_q8, measured_q8, fan});
-    const firmware::Fault fault = watch.update(target_q8, measured_q8, duty_q16);
-    if (fault != firmware::Fault::kNone && f.fault == firmware::Fault::kNone) {
-      f.fault = fault;
-      f.fault_s = k * kPeriodS;
-    }
-    p.run(duty_q16 / 65535.0, kPeriodS);
-    const double t_c = p.true_c();
-    if (trace) trace->push_back(t_c);
-    if (k < fan_period) {
-      f.overshoot_c = std::max(f.overshoot_c, t_c - plant.target_c);
-      if (k >= steady_from) {
-        steady_min = std::min(steady_min, t_c);
-        steady_max = std::max(steady_max, t_c);
-        steady_sum += t_c - plant.target_c;
-        ++steady_n;
-      }
-    } else {
-      f.dip_c = std::max(f.dip_c, std::fabs(t_c - plant.target_c));
-      if (std::fabs(t_c - plant.target_c) > 1.0) f.recovery_s = (k + 1 - fan_period) * kPeriodS;
-    }
-  }
-  if (f.recovery_s < 0) f.recovery_s = 0;
-  if (std::fabs(p.true_c() - plant.target_c) > 1.0) f.recovery_s = -1;  // never back
-  f.steady_pp_c = steady_max - steady_min;
-  f.steady_mean_c = steady_n ? steady_sum / steady_n : 0;
+  const heat_fan_step::Result r = heat_fan_step::run(bank, plant.model, plant.target_c, plant.fan_at_s, plant.run_s, 0.0);
+  f.overshoot_c = r.overshoot_c;
+  f.steady_mean_c = r.steady_mean_c;
+  f.steady_pp_c = r.steady_pp_c;
+  f.dip_c = r.dip_c;
+  f.recovery_s = r.recovery_s;
+  f.fault = r.fault;
+  f.fault_s = r.fault_s;
   return f;
 }
 

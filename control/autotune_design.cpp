@@ -43,9 +43,19 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   }
   // An unsure model (the probe's response outlasted the model history: seed000's higher-order
   // hotends) of no lag-type hotend: its D is short of the response's, and a D too short
-  // overshoots. +3/8 (state feedback after U1, simavr): seed000-5 D 73.9 → 101.6: 2.98 → 0.24 °C;
-  // seed000-4 79 → 107: 18.4 → 10.6 °C. heavy-slow (a lag) was slower with it: not there.
-  if (tune.unsure && tune.sensor_lag_q8 == 0) l_q8 += 3 * l_q8 / 8;
+  // overshoots; the more so the longer L is against C. Margin L·max(3/8, 7.5·L/C), at most L.
+  // State feedback after U1 (simavr): seed000-5 (L/C ≈ 0.05: 3/8) D 73.9 → 101.6: 2.98 → 0.24 °C;
+  // seed000-4 (L/C ≈ 0.086: 0.65) on the host rig over 4 noise seeds 5.9–8.0 → 0.3–1.9 °C, where
+  // 3/8 gave 5.9–8.0 and ×1.5 / ×1.75 2.9–4.9 / 0 °C with 1.0–1.4 °C p-p
+  // (docs/autotune.md, "Unsure models"). heavy-slow (a lag) was slower with it: not there.
+  // L < 2^18 (Q8), so 15·L < 2^22 and the quotient L·15·L/(2·C) < 2^31 (C ≥ 1 s).
+  if (tune.unsure && tune.sensor_lag_q8 == 0) {
+    int32_t margin_q8 = static_cast<int32_t>(
+        fixed::mul_div_u32(static_cast<uint32_t>(l_q8), 15UL * static_cast<uint32_t>(l_q8), 2UL * t_q8));
+    if (margin_q8 < 3 * l_q8 / 8) margin_q8 = 3 * l_q8 / 8;
+    if (margin_q8 > l_q8) margin_q8 = l_q8;
+    l_q8 += margin_q8;
+  }
   if (l_q8 < kMinDesignDeadTimeQ8) l_q8 = kMinDesignDeadTimeQ8;
   if (l_q8 > kModelMaxDeadTimeQ8) return false;
   out->model.dead_time_q8 = l_q8;  // the feedforward's heat-up must respect the same delay

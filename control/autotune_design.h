@@ -46,8 +46,12 @@ bool design_from_tune(const AutotuneResult& tune, uint16_t period_ms, TunedDesig
 // thermistor lag seen; there the PID following the model's heat-up overshot less (seed002: 0.02
 // vs 1.69 °C; fopdt-delay25 with D 3 % short: 0.28 vs 2.63 °C, 0.99 vs 1.40 × bound). With a
 // lag (seed003, heavy-slow, hotend40w-delay5) it was the other way round.
+// An unsure model without a lag is judged by its identified D, not by the margin design_from_tune
+// gave it: the PID following seed000's model heat-up overshot 31–48 °C (its C is read long).
 inline bool dead_time_leads(const AutotuneResult& tune, const TunedDesign& design) {
-  const int32_t dead_q8 = design.model.dead_time_q8;  // ≤ 600 s × 256 (M307's bound): 8× fits int32
+  // ≤ 600 s × 256 (M307's bound): 8× fits int32
+  const int32_t dead_q8 =
+      tune.unsure && tune.sensor_lag_q8 == 0 ? tune.model.dead_time_q8 : design.model.dead_time_q8;
   return 2 * dead_q8 >= design.model.time_constant_q8 ||
          (tune.sensor_lag_q8 == 0 && 8 * dead_q8 >= design.model.time_constant_q8);
 }

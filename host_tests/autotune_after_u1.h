@@ -72,6 +72,13 @@ inline std::vector<Plant> plants() {
   };
 }
 
+// seed000-4 / seed000-5 (slow, non-minimum-phase; their tunes are "unsure"), heated to 150 °C as
+// hotend-sim's bank does, with HIL7's fan step at 1,800 s and 2,400 s run (sim/CMakeLists.txt).
+inline std::vector<Plant> seed000_plants() {
+  return {{"seed000-4", design::seed000_4(), 150, 1800, 2400, 730.7},
+          {"seed000-5", design::seed000_5(), 150, 1800, 2400, 664.0}};
+}
+
 inline const Plant* find(const std::vector<Plant>& ps, const std::string& name) {
   for (const Plant& p : ps)
     if (p.name == name) return &p;

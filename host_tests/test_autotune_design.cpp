@@ -129,6 +129,26 @@ TEST(AutotuneDesign, UnsureModelsWithoutALagGetADeadTimeMargin) {
   EXPECT_TRUE(d.lag_paced);
 }
 
+// The unsure margin grows with L/C: L·max(3/8, 7.5·L/C), at most L. seed000-4's tune (host rig,
+// σ 0.02 °C: A 452 C 994.3 D 73.9 Tu 342.1, L = Tu/4) gets 0.645·L where 3/8 overshot 5.9–8.0 °C;
+// seed000-5's (L/C ≈ 0.05) keeps 3/8 (the test above). And the margin does not make U1 pick the
+// PID following the model (dead_time_leads judges an unsure model by its identified D).
+TEST(AutotuneDesign, UnsureMarginGrowsWithDeadTimeOverTimeConstant) {
+  control::AutotuneResult r = tune_of(452, 994.3, 73.9, 342.1);
+  r.unsure = true;
+  control::TunedDesign d;
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  const double l = std::floor(342.1 * 64) / 256;  // Tu/4, Q8 as the board has it
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, l * (1 + 7.5 * l / q8(994.3)), 0.02);
+  EXPECT_GT(8 * d.model.dead_time_q8, d.model.time_constant_q8);  // the margin alone would lead
+  EXPECT_FALSE(control::dead_time_leads(r, d));                    // state feedback stays
+  r = tune_of(450, 600, 100, 0);  // L/C 1/6: 7.5·L/C = 1.25, capped at L
+  r.unsure = true;
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 200, 0.01);
+  EXPECT_TRUE(control::dead_time_leads(r, d));  // its identified D ≥ C/8: as for a sure model
+}
+
 TEST(AutotuneDesign, RefusesModelsOutsideM307sRange) {
   control::TunedDesign d;
   EXPECT_FALSE(control::design_from_tune(tune_of(5, 100, 2, 10), 128, &d));      // gain below 10 °C

@@ -198,4 +198,29 @@ TEST(StateFeedbackTwoLags, RefusesModelsItDoesNotDesign) {
   EXPECT_FALSE(control::design_state_feedback_two_lags(good, 0, &k));
 }
 
+// The corners of what M307 accepts read as two lags: every design passes the runtime's checks
+// (and the controller takes it) or is refused with all-zero constants; none crashes.
+TEST(StateFeedbackTwoLags, EdgeModelsAreValidOrRefused) {
+  const double ks[] = {10, 100, 185, 190, 2000}, ts[] = {1, 3, 30, 600, 3600}, rs[] = {0.01, 0.1, 0.25, 0.5};
+  int designed = 0, total = 0;
+  const StateFeedbackConstants zero = {};
+  for (double kk : ks)
+    for (double t : ts)
+      for (double r : rs) {
+        SCOPED_TRACE(::testing::Message() << "K " << kk << " t1 " << t << " t2 " << r * t);
+        ++total;
+        StateFeedbackConstants k;
+        if (!control::design_state_feedback_two_lags(board_model(TwoLags{kk, t, r * t, 500}), 128, &k)) {
+          EXPECT_EQ(std::memcmp(&k, &zero, sizeof k), 0);
+          continue;
+        }
+        ++designed;
+        EXPECT_TRUE(control::state_feedback_constants_valid(k));
+        control::StateFeedback sf;
+        EXPECT_TRUE(sf.configure(k));
+      }
+  std::printf("two-lag edge models designed: %d of %d\n", designed, total);
+  EXPECT_GT(designed, total / 2);
+}
+
 }  // namespace

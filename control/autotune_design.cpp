@@ -1,6 +1,7 @@
 #include "control/autotune_design.h"
 
 #include "control/fixed.h"
+#include "control/state_feedback_autodesign.h"
 
 namespace control {
 
@@ -41,6 +42,8 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
     l_q8 += margin_q8;
     out->lag_paced = 20 * tune.sensor_lag_q8 <= tune.model.time_constant_q8;
   }
+  // Lag above C/20 (20·lag < 2^26): two lags, provided D (after the margins) stays ≤ C/2, below.
+  out->two_lags = tune.sensor_lag_q8 > 0 && !out->lag_paced;
   // An unsure model (the probe's response outlasted the model history: seed000's higher-order
   // hotends) of no lag-type hotend: its D is short of the response's, and a D too short
   // overshoots; the more so the longer L is against C. Margin L·max(3/8, 7.5·L/C), at most L.
@@ -59,6 +62,7 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   if (l_q8 < kMinDesignDeadTimeQ8) l_q8 = kMinDesignDeadTimeQ8;
   if (l_q8 > kModelMaxDeadTimeQ8) return false;
   out->model.dead_time_q8 = l_q8;  // the feedforward's heat-up must respect the same delay
+  if (2 * l_q8 > tune.model.time_constant_q8) out->two_lags = false;  // l_q8 ≤ 600 s × 256: fits
   const uint32_t l = static_cast<uint32_t>(l_q8);
 
   // Kp = 255·T/(K·3L) in M301 units. ratio = 255·256·T/L ≤ 65,280·921,600/128 < 2^32 (T ≤ 3600 s,
@@ -72,6 +76,12 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   const uint32_t ki_q16 = fixed::mul_div_u32(kp_q16, 256UL, ti_q8);
   out->pid = PidGains{static_cast<int32_t>(kp_q16), static_cast<int32_t>(ki_q16), 0};
   return Pid::valid(out->pid, period_ms);
+}
+
+bool design_tuned_state_feedback(TunedDesign* design, uint16_t period_ms, StateFeedbackConstants* out) {
+  if (design->two_lags && design_state_feedback_two_lags(design->model, period_ms, out)) return true;
+  design->two_lags = false;
+  return design_state_feedback_fopdt(design->model, period_ms, out, design->lag_paced);
 }
 
 }  // namespace control

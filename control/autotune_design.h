@@ -15,6 +15,7 @@
 #include "control/autotune.h"
 #include "control/feedforward.h"
 #include "control/pid.h"
+#include "control/state_feedback_constants.h"
 
 namespace control {
 
@@ -25,6 +26,13 @@ struct TunedDesign {
   // faster than D (design_state_feedback_fopdt's dead_time_paced). hotend80w's full-power rise
   // of 44 s gave T_cl 2.8 s against D 4.7: 1.30 °C of overshoot; paced 0.45 °C, 1.04 × bound.
   bool lag_paced;
+  // A lag-dominated hotend (the tune saw a thermistor lag above C/20, and D ≤ C/2): the state
+  // feedback is the two-state design of two lags τ1 = C, τ2 = D (design_state_feedback_two_lags).
+  // Host rig after U1, noise seeds 12345, 1–3: seed003 2.06–2.13 → 0.86–0.89 × bound, heavy-slow
+  // 1.68–1.70 → 0.98–1.01 × (docs/autotune.md, "Design"). Not on the two-node hotends (lag
+  // ≤ C/20, paced instead: the two-lag design was 2–3 % slower there) nor without a lag seen
+  // (hotend40w-delay5: a transport delay, which two lags without dead time oscillate on).
+  bool two_lags;
 };
 
 // The shortest dead time the PID rule accepts (s × 256): below it the SIMC gain would grow
@@ -40,6 +48,11 @@ bool tu_floors_dead_time(int32_t dead_time_q8, int32_t time_constant_q8, int32_t
 // False if the identified model is outside what M307 accepts or the gains fall outside
 // Pid::valid (nothing in *out is meaningful then).
 bool design_from_tune(const AutotuneResult& tune, uint16_t period_ms, TunedDesign* out);
+
+// The state feedback U1 loads for `design`: the two-lag law where design->two_lags, else the
+// FOPDT's (paced where lag_paced). A two-lag design the board refuses falls back to the FOPDT's
+// and clears two_lags, so the flag always says what *out holds. False: neither designs it.
+bool design_tuned_state_feedback(TunedDesign* design, uint16_t period_ms, StateFeedbackConstants* out);
 
 // Which controller M303 U1 selects (measured over the plant bank, docs/bench): state feedback
 // unless the dead time is at least half the time constant, or at least an eighth of it with no

@@ -57,8 +57,20 @@ enum Slot : uint8_t {
   kBig, kSumH, kTap, kOnePlusH, kLg,
   kLaw0, kLaw1, kLaw2,  // [L_D·2^p, 1.01·g_d, 1.01·M·2^p]
   kFan, kInv,
-  kSlots
+  kFopdtSlots
 };
+
+// The two-lag design's slots (design_two_lags below), after the shared constants 0..3.
+enum LagSlot : uint8_t {
+  kLagK = 4, kLagT1000, kLagD1000, kLagA1, kLagA2, kLagQ, kLagR, kAlpha, kBeta2, kBetaMinusAlpha, kLagF,
+  kLagRow0, kLagRow1, kLagRow2, kLagRow3,  // [−α or −β, 0 or f, Γ/2^p, 0]
+  kLagC, kLc1, kLc2, kLo1, kLo2, kLob, kU0, kU1, kU2, kPa, kPb, kP0, kM1, kM2, kLagKP,
+  kLagLaw0, kLagLaw1, kLagLaw2, kLagLaw3,  // [L1·2^p, L2·2^p, 1.01, 1.01·M·2^p]
+  kLagG1, kLagGainQ, kLagShare0, kLagShare1, kLagKx1, kLagKx2, kLagKd, kLagFan, kLagInv,
+  kLagSlots
+};
+
+constexpr uint8_t kSlots = static_cast<uint8_t>(kLagSlots) > static_cast<uint8_t>(kFopdtSlots) ? static_cast<uint8_t>(kLagSlots) : static_cast<uint8_t>(kFopdtSlots);
 
 enum Op : uint8_t { kAdd, kSub, kMul, kDiv, kMin, kLdexp, kExpNeg, kOneMinusExpNeg, kLn };
 
@@ -330,6 +342,213 @@ __attribute__((noinline, noclone)) bool design(const HotendModel& model, uint16_
          c.quantize(kInv, 1, 46, 1, &k.inv_gain, &k.inv_gain_shift) && state_feedback_constants_valid(k);
 }
 
+// The two-lag design (see design_state_feedback_two_lags in the header). Notation: K static gain,
+// τ1 = C, τ2 = D (no dead time), h = 2·period, q = τ2/τ1, r = τ1/(τ1 − τ2),
+//   α = 1 − e^(−h/τ1), β = 1 − e^(−h/τ2)    (Φ's eigenvalues e1 = 1 − α, e2 = 1 − β)
+//   Φ = [[e1, 0], [f, e2]], f = r(β − α);  Γ = K·[α, r(α − qβ)]   (exact ZOH of two lags)
+// Poles as complements ℓ = 1 − z (relative precision for slow poles). Placement by residues in
+// Φ's eigenbasis (V = [[β − α, 0], [f, 1]]; its columns' outputs and Γ's coordinates are closed
+// forms, so no ill-conditioned controllability matrix is formed):
+//   m1 = (ℓ1 − α)(ℓ2 − α)/(Kα),  m2 = (ℓ1 − β)(ℓ2 − β)/((β − α)·K·β·q·r)
+//   L = [m1/(β − α) − r·m2, m2],  M = ℓ1ℓ2/(αβK)
+// and for the current observer on [x1; x2; d] (error dynamics eig(Φo − k·c), c = Co·Φo =
+// [f, e2, Γ2]; Φo's eigenvectors [β − α, f, 0], [0, 1, 0], [K, K, 1]) with P(z) = Π(z − λo_j):
+//   k_d = P(1)/(αβK),  k1 = P(1)/(αβ) − P(e1)/(α·e1·f),
+//   k2 = P(1)/(αβ) − P(e1)/(α(β − α)e1) + P(e2)/(β(β − α)e2),   P(e_i) = Π(ℓo_j − α_i).
+__attribute__((noinline, noclone)) bool design_two_lags(const HotendModel& model, uint16_t period_ms,
+                                                        StateFeedbackConstants& k, Calc& c) {
+  if (!hotend_model_valid(model) || period_ms == 0 || period_ms > 1000) return false;
+  // Two distinct lags, the second at most half the first (well apart: Φ's eigenvalues distinct,
+  // and no cancellation beyond a few bits in α − qβ). D ≥ 1 s × 256 / 256.
+  if (model.dead_time_q8 <= 0 || 2 * model.dead_time_q8 > model.time_constant_q8) return false;
+  const uint32_t h32 = 2u * period_ms * 32u;  // the law period (D = 0: decimation 2), 1/32 ms
+  int8_t p = 0;
+  while (p < 10 && (kSqrt2Q16x10 << p) < static_cast<uint32_t>(model.rise_q8) * 2560u) ++p;
+  k.n = 2;
+  k.output_mask = 2;  // y = x2, the thermistor
+  k.delay = 0;
+  k.decimation = 2;
+  k.input_shift = static_cast<uint8_t>(p);
+  k.ambient_q8 = kAmbientQ8;
+
+  c.set(kLagK, model.rise_q8, -8);
+  // h/τ = h32/32,000 s ÷ τ_q8/256 s = h32·8/(1000·τ_q8): C_q8·1000 ≤ 9.2e8, D_q8·1000 ≤ 1.6e8, h32·8 ≤ 512,000.
+  c.set(kLagT1000, model.time_constant_q8 * 1000);
+  c.set(kLagD1000, model.dead_time_q8 * 1000);
+  c.set(kU0, static_cast<int32_t>(h32 * 8));
+  c.div(kLagA1, kU0, kLagT1000);
+  c.div(kLagA2, kU0, kLagD1000);
+  c.div(kLagQ, kLagD1000, kLagT1000);
+  c.sub(kU0, kOne, kLagQ);
+  c.div(kLagR, kOne, kU0);
+  c.one_minus_exp_neg(kAlpha, kLagA1);
+  c.one_minus_exp_neg(kBeta2, kLagA2);
+  c.sub(kBetaMinusAlpha, kBeta2, kAlpha);
+  c.mul(kLagF, kLagR, kBetaMinusAlpha);
+
+  // Observer model rows, nibble-aligned shifts <= 40 (as the host's quantiser).
+  c.set(kLagKP, 1, static_cast<int16_t>(-p));
+  c.mul(kLagKP, kLagKP, kLagK);  // K/2^p
+  c.sub(kLagRow0, kZero, kAlpha);
+  c.copy(kLagRow1, kZero);
+  c.mul(kLagRow2, kAlpha, kLagKP);
+  c.copy(kLagRow3, kZero);
+  int16_t m[4];
+  if (!c.quantize(kLagRow0, 4, 40, 4, m, &k.phi_shift[0]) || m[0] >= 0) return false;
+  k.phi_diag[0] = m[0];
+  k.gamma_a[0] = m[2];
+  c.set(kLagG1, static_cast<int32_t>(m[2]), p);  // quantised steady state of x1 per unit input
+  c.set(kU0, -static_cast<int32_t>(m[0]));
+  c.div(kLagG1, kLagG1, kU0);
+  c.sub(kLagRow0, kZero, kBeta2);
+  c.copy(kLagRow1, kLagF);
+  c.mul(kU0, kLagQ, kBeta2);  // Γ2/2^p = (K/2^p)·r·(α − qβ)
+  c.sub(kU0, kAlpha, kU0);
+  c.mul(kU0, kU0, kLagR);
+  c.mul(kLagRow2, kU0, kLagKP);
+  if (!c.quantize(kLagRow0, 4, 40, 4, m, &k.phi_shift[1]) || m[0] >= 0 || m[1] <= 0) return false;
+  k.phi_diag[1] = m[0];
+  k.phi_off[1] = m[1];
+  k.gamma_a[1] = m[2];
+  // g2 = (φ10·g1 + Γ2·2^p)/(1 − φ11) in mantissas (one shift): (m1·g1 + m2·2^p)/(−m0).
+  c.set(kU0, m[1]);
+  c.mul(kU0, kU0, kLagG1);
+  c.set(kU1, m[2], p);
+  c.add(kU0, kU0, kU1);
+  c.set(kU1, -static_cast<int32_t>(m[0]));
+  c.div(kLagGainQ, kU0, kU1);
+
+  // Pole rule: c = h/T_cl = min(16·h/t_rise, h/(0.6·τ2), 1/2); t_rise = τ1·ln(K·r/(K − 185)), the
+  // two lags' asymptote (τ1 when K ≤ 185). 0.6·τ2: host sweep on the tuned models (docs/autotune.md).
+  c.ldexp(kLagC, kLagA1, 4);
+  if (model.rise_q8 > kStepQ8) {
+    c.set(kU0, model.rise_q8 - kStepQ8, -8);
+    c.div(kU0, kLagK, kU0);
+    c.mul(kU0, kU0, kLagR);
+    c.ln(kU0, kU0);
+    c.div(kLagC, kLagC, kU0);
+  }
+  c.set(kU0, 5);
+  c.mul(kU0, kU0, kLagA2);
+  c.set(kU1, 3);
+  c.div(kU0, kU0, kU1);  // h/(0.6·τ2)
+  c.min(kLagC, kLagC, kU0);
+  c.min(kLagC, kLagC, kHalf);
+  // Each lag slower than T_cl is sped up by T_dom/T_cl = τ1/T_cl (controller: capped at 2h;
+  // observer: 4 × the uncapped rate, capped at 2h); a faster one keeps its open-loop pole.
+  c.copy(kLc1, kAlpha);
+  c.copy(kLo1, kAlpha);
+  if (c.less(kLagA1, kLagC)) {
+    c.one_minus_exp_neg(kLc1, kLagC);
+    c.ldexp(kU0, kLagC, 2);
+    c.min(kU0, kU0, kHalf);
+    c.one_minus_exp_neg(kLo1, kU0);
+  }
+  c.copy(kLc2, kBeta2);
+  c.copy(kLo2, kBeta2);
+  if (c.less(kLagA2, kLagC)) {
+    c.div(kU1, kLagC, kLagQ);
+    c.min(kU0, kU1, kHalf);
+    c.one_minus_exp_neg(kLc2, kU0);
+    c.ldexp(kU0, kU1, 2);
+    c.min(kU0, kU0, kHalf);
+    c.one_minus_exp_neg(kLo2, kU0);
+  }
+  c.ldexp(kU0, kLagC, 1);  // bias: T_cl/2 (no dead time)
+  c.one_minus_exp_neg(kLob, kU0);
+
+  // Law: m1, m2, L, M.
+  c.sub(kU0, kLc1, kAlpha);
+  c.sub(kU1, kLc2, kAlpha);
+  c.mul(kM1, kU0, kU1);
+  c.mul(kU2, kLagK, kAlpha);
+  c.div(kM1, kM1, kU2);  // m1
+  c.sub(kU0, kLc1, kBeta2);
+  c.sub(kU1, kLc2, kBeta2);
+  c.mul(kM2, kU0, kU1);
+  c.mul(kU2, kBetaMinusAlpha, kLagK);
+  c.mul(kU2, kU2, kBeta2);
+  c.mul(kU2, kU2, kLagQ);
+  c.mul(kU2, kU2, kLagR);
+  c.div(kM2, kM2, kU2);  // m2 = L2
+  c.div(kU0, kM1, kBetaMinusAlpha);
+  c.mul(kU1, kLagR, kM2);
+  c.sub(kLagLaw0, kU0, kU1);
+  c.ldexp(kLagLaw0, kLagLaw0, p);
+  c.ldexp(kLagLaw1, kM2, p);
+  c.copy(kLagLaw2, kHeadroom);  // 1.01·g_d, g_d = 1
+  c.mul(kU0, kLc1, kLc2);
+  c.mul(kU1, kAlpha, kBeta2);
+  c.mul(kU1, kU1, kLagK);
+  c.div(kU0, kU0, kU1);
+  c.ldexp(kU0, kU0, p);
+  c.mul(kLagLaw3, kU0, kHeadroom);
+  int16_t law[4];
+  if (!c.quantize(kLagLaw0, 4, 46, 1, law, &k.ctrl_shift)) return false;
+  k.fb_gain[0] = law[0];
+  k.fb_gain[1] = law[1];
+  // M from the quantised numbers: (1 + L·g)/gain_q·2^p, L·g = (l0·g1 + l1·g2)/2^(s + p).
+  const int16_t ls = static_cast<int16_t>(-(k.ctrl_shift + p));
+  c.set(kU0, law[0], ls);
+  c.mul(kU0, kU0, kLagG1);
+  c.set(kU1, law[1], ls);
+  c.mul(kU1, kU1, kLagGainQ);
+  c.add(kU0, kU0, kU1);
+  c.add(kU0, kU0, kOne);
+  c.div(kU0, kU0, kLagGainQ);
+  c.ldexp(kU0, kU0, p);
+  k.ff_gain = c.mantissa(kU0, k.ctrl_shift);
+  k.bias_gain = c.mantissa(kOne, k.ctrl_shift);
+
+  // Observer: P(1), P(e1), P(e2) over the poles ℓo1, ℓo2, ℓob.
+  c.mul(kP0, kLo1, kLo2);
+  c.mul(kP0, kP0, kLob);
+  c.sub(kPa, kLo1, kAlpha);
+  c.sub(kU0, kLo2, kAlpha);
+  c.mul(kPa, kPa, kU0);
+  c.sub(kU0, kLob, kAlpha);
+  c.mul(kPa, kPa, kU0);
+  c.sub(kPb, kLo1, kBeta2);
+  c.sub(kU0, kLo2, kBeta2);
+  c.mul(kPb, kPb, kU0);
+  c.sub(kU0, kLob, kBeta2);
+  c.mul(kPb, kPb, kU0);
+  c.mul(kU0, kAlpha, kBeta2);
+  c.div(kU2, kP0, kU0);  // P(1)/(αβ)
+  c.div(kLagKd, kU2, kLagK);
+  c.ldexp(kLagKd, kLagKd, p);
+  c.sub(kU0, kOne, kAlpha);  // e1
+  c.mul(kU0, kU0, kAlpha);   // α·e1
+  c.div(kU1, kPa, kU0);      // P(e1)/(α·e1)
+  c.div(kLagKx1, kU1, kLagF);
+  c.sub(kLagKx1, kU2, kLagKx1);
+  c.div(kU1, kU1, kBetaMinusAlpha);
+  c.sub(kLagKx2, kU2, kU1);
+  c.sub(kU0, kOne, kBeta2);  // e2
+  c.mul(kU0, kU0, kBeta2);
+  c.mul(kU0, kU0, kBetaMinusAlpha);
+  c.div(kU1, kPb, kU0);
+  c.add(kLagKx2, kLagKx2, kU1);
+  if (!c.quantize(kLagKx1, 1, 40, 8, &k.obs_gain[0], &k.obs_shift[0]) ||
+      !c.quantize(kLagKx2, 1, 40, 8, &k.obs_gain[1], &k.obs_shift[1]) ||
+      !c.quantize(kLagKd, 1, 40, 8, &k.obs_gain[2], &k.obs_shift[2]))
+    return false;
+
+  // Fan (as the FOPDT's), steady state per kelvin [g1/g2, 1], 2^p / DC gain.
+  c.set(kLagFan, model.fan_loss_pct_q8, static_cast<int16_t>(16 + p));
+  c.set(kU0, model.rise_q8);
+  c.set(kU1, 6528000);
+  c.mul(kU0, kU0, kU1);
+  c.div(kLagFan, kLagFan, kU0);
+  c.div(kLagShare0, kLagG1, kLagGainQ);
+  c.copy(kLagShare1, kOne);
+  c.set(kLagInv, 1, p);
+  c.div(kLagInv, kLagInv, kLagGainQ);
+  return c.quantize(kLagFan, 1, 46, 1, &k.fan_gain, &k.fan_shift) &&
+         c.quantize(kLagShare0, 2, 46, 1, k.ss_share, &k.ss_share_shift) &&
+         c.quantize(kLagInv, 1, 46, 1, &k.inv_gain, &k.inv_gain_shift) && state_feedback_constants_valid(k);
+}
+
 }  // namespace
 
 bool design_state_feedback_fopdt(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants* out,
@@ -338,6 +557,14 @@ bool design_state_feedback_fopdt(const HotendModel& model, uint16_t period_ms, S
   Calc calc;
   if (design(model, period_ms, dead_time_paced, *out, calc)) return true;
   *out = StateFeedbackConstants();  // n = 0: fails state_feedback_constants_valid
+  return false;
+}
+
+bool design_state_feedback_two_lags(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants* out) {
+  *out = StateFeedbackConstants();
+  Calc calc;
+  if (design_two_lags(model, period_ms, *out, calc)) return true;
+  *out = StateFeedbackConstants();
   return false;
 }
 

@@ -27,4 +27,13 @@ namespace control {
 bool design_state_feedback_fopdt(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants* out,
                                  bool dead_time_paced = false);
 
+// Designs the two-state (n = 2, output_mask 2: y = x2) law for a thermistor that lags the block:
+// the M307 model read as two lags in cascade, K/((τ1 s + 1)(τ2 s + 1)) with τ1 = C, τ2 = D and
+// no dead time (the host's `design::second_order(A, C, D)`, "two lags" realisation). The host's
+// pole rule with T_cl = max(t_rise/16, 0.6·τ2, 2h) in place of its saturation search (the search
+// needs step simulations; 0.6·τ2 is where the tuned seed003/heavy-slow models' own saturated steps
+// stop overshooting much: docs/autotune.md). False, and *out all zero, as the FOPDT design; also
+// when D is 0 or more than C/2 (two lags that far apart only).
+bool design_state_feedback_two_lags(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants* out);
+
 }  // namespace control

@@ -52,13 +52,23 @@ __attribute__((noinline)) void write_design(gcode::Output& out, const control::A
   out.end_line();
 }
 
-// The board's state-feedback design in one line (nullptr: it failed).
-__attribute__((noinline)) void write_sf_summary(gcode::Output& out, const control::StateFeedbackConstants* sf) {
+// The board's state-feedback design in one line (nullptr: it failed); for the two-lag law its
+// lags (the model it designed from is not the M307 line's FOPDT reading of them).
+__attribute__((noinline)) void write_sf_summary(gcode::Output& out, const control::StateFeedbackConstants* sf,
+                                                const control::TunedDesign& d) {
   if (sf == nullptr) {
     out.print(GCODE_TEXT("echo:Autotune state feedback: this model is outside what the board designs\n"));
     return;
   }
-  out.print(GCODE_TEXT("echo:Autotune state feedback designed: law every "));
+  out.print(GCODE_TEXT("echo:Autotune state feedback designed: "));
+  if (d.two_lags) {
+    out.print(GCODE_TEXT("two lags "));
+    out.write_q8(d.model.time_constant_q8);
+    out.print(GCODE_TEXT(" s and "));
+    out.write_q8(d.model.dead_time_q8);
+    out.print(GCODE_TEXT(" s (no dead time), "));
+  }
+  out.print(GCODE_TEXT("law every "));
   out.write_uint(sf->decimation);
   out.print(GCODE_TEXT(" x 128 ms, predictor over "));
   out.write_uint(sf->delay);
@@ -201,11 +211,13 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   // (control/state_feedback_autodesign.h: ~400 k cycles, run right after a control step, so it
   // ends well before the next one is due).
   control::StateFeedbackConstants sf;
-  const bool sf_ok = control::design_state_feedback_fopdt(d.model, kControlPeriodMs, &sf, d.lag_paced);
-  write_sf_summary(out, sf_ok ? &sf : nullptr);
+  const bool sf_ok = control::design_tuned_state_feedback(&d, kControlPeriodMs, &sf);
+  write_sf_summary(out, sf_ok ? &sf : nullptr, d);
   const bool use_sf = sf_ok && !control::dead_time_leads(r, d);
-  // "paced": designed no faster than D (hotend-sim's check of the board's M311 reads it).
+  // "paced": designed no faster than D; "two lags": from C and D as two lags (hotend-sim's
+  // check of the board's M311 reads both).
   const gcode::FlashText* choice = !use_sf      ? GCODE_TEXT("M310 S0 F1 (PID following the model's heat-up), ")
+                                   : d.two_lags  ? GCODE_TEXT("M310 S1 (state feedback, two lags C and D), ")
                                    : d.lag_paced ? GCODE_TEXT("M310 S1 (state feedback, paced by D), ")
                                                  : GCODE_TEXT("M310 S1 (state feedback), ");
   if (!apply_) {

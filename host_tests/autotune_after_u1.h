@@ -115,9 +115,9 @@ struct Applied {
   bool sf_ok = false;
 };
 
-inline Applied applied(const control::AutotuneResult& r, const control::TunedDesign& d, bool use_sf) {
+inline Applied applied(const control::AutotuneResult& r, control::TunedDesign d, bool use_sf) {
   Applied a;
-  a.sf_ok = control::design_state_feedback_fopdt(d.model, firmware::kControlPeriodMs, &a.sf, d.lag_paced);
+  a.sf_ok = control::design_tuned_state_feedback(&d, firmware::kControlPeriodMs, &a.sf);
   a.settings = firmware::default_settings();
   a.settings.model = d.model;
   a.settings.model_tuned = control::tune_bounds_tightly(r) ? 1 : 0;
@@ -164,7 +164,7 @@ inline Figures after_u1(const Plant& p, unsigned long long seed, double noise_c 
   control::TunedDesign d;
   if (!control::design_from_tune(r, firmware::kControlPeriodMs, &d)) return f;
   control::StateFeedbackConstants sf;
-  const bool sf_ok = control::design_state_feedback_fopdt(d.model, firmware::kControlPeriodMs, &sf, d.lag_paced);
+  const bool sf_ok = control::design_tuned_state_feedback(&d, firmware::kControlPeriodMs, &sf);
   const bool use_sf = sf_ok && !control::dead_time_leads(r, d);  // as AutotuneJob::write_result
   if (chose_sf) *chose_sf = use_sf;
   return run(p, applied(r, d, use_sf));

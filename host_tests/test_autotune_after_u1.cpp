@@ -24,11 +24,9 @@ struct Limits {
 
 // Issue 7's targets, or (misses, measured at this commit on noise seed 12345, σ 0.1 °C) a
 // ceiling a little above the figure so that a worse design fails: hotend80w overshoots 1.64 °C
-// here (0.43 in simavr); heavy-slow (1.69 ×) and seed003 (2.13 ×) are the one-state design's
-// limit on two-lag hotends — over the design's D (0.5–2 ×), pacing, and the observer's and the
-// loop's speed (½–2 ×) none settled below 1.35 × / 1.69 × with ≤ 1 °C of overshoot.
-const std::map<std::string, Limits> kMisses = {
-    {"hotend80w", {1.8, 1.30}}, {"heavy-slow", {1.0, 1.75}}, {"seed003", {1.0, 2.20}}};
+// here (0.43 in simavr). heavy-slow and seed003 (one-state design: 1.69 × and 2.13 ×) meet the
+// targets with the two-lag design (1.01 ×, 0.89 ×).
+const std::map<std::string, Limits> kMisses = {{"hotend80w", {1.8, 1.30}}};
 
 TEST(AutotuneAfterU1, EveryPlantMeetsTheTargetsOrItsKnownMiss) {
   std::printf("%-17s %-7s %8s %8s %7s %6s %8s\n", "plant", "U1", "os °C", "set ×", "p-p °C", "dip °C", "D s");
@@ -66,6 +64,31 @@ TEST(AutotuneAfterU1, TransportDelayedHotendSettlesWithin1_2BoundOverNoiseSeeds)
     EXPECT_LE(f.overshoot_c, 1.0) << "seed " << seed;
     EXPECT_LE(f.settling_ratio, 1.2) << "seed " << seed;
     EXPECT_LE(f.steady_pp_c, 0.5) << "seed " << seed;
+  }
+}
+
+// Lag-dominated hotends (thermistor lag > C/20): U1 designs the two-lag state feedback, which
+// settled them within the targets over these noise seeds (σ 0.1 °C: seed003 0.86–0.89 ×,
+// heavy-slow 0.98–1.01 ×; the one-state design 2.06–2.13 × and 1.68–1.70 ×).
+TEST(AutotuneAfterU1, LagDominatedHotendsGetTheTwoLagDesignAndSettleWithinTheTargets) {
+  const std::vector<after_u1::Plant> ps = after_u1::plants();
+  for (const char* name : {"seed003", "heavy-slow"}) {
+    const after_u1::Plant* p = after_u1::find(ps, name);
+    ASSERT_NE(p, nullptr);
+    for (unsigned long long seed : {12345ULL, 1ULL, 2ULL, 3ULL}) {
+      control::AutotuneResult r{};
+      bool sf = false;
+      const Figures f = after_u1::after_u1(*p, seed, 0.1, &r, &sf);
+      control::TunedDesign d;
+      ASSERT_TRUE(control::design_from_tune(r, firmware::kControlPeriodMs, &d)) << name << " seed " << seed;
+      EXPECT_TRUE(d.two_lags) << name << " seed " << seed;
+      EXPECT_TRUE(sf) << name << " seed " << seed;
+      EXPECT_TRUE(f.ok) << name << " seed " << seed;
+      EXPECT_LE(f.overshoot_c, 1.0) << name << " seed " << seed;
+      EXPECT_LE(f.settling_ratio, 1.2) << name << " seed " << seed;
+      EXPECT_LE(f.steady_pp_c, 0.5) << name << " seed " << seed;
+      EXPECT_LE(f.dip_c, 1.0) << name << " seed " << seed;
+    }
   }
 }
 

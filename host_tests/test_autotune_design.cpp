@@ -149,6 +149,45 @@ TEST(AutotuneDesign, UnsureMarginGrowsWithDeadTimeOverTimeConstant) {
   EXPECT_TRUE(control::dead_time_leads(r, d));  // its identified D ≥ C/8: as for a sure model
 }
 
+// Which tunes get the two-lag state feedback: a thermistor lag above C/20 (seed003, heavy-slow),
+// with D (after the margins) at most C/2. Not a small lag (two-node hotends: paced), not a tune
+// without a lag (FOPDT plants, hotend40w-delay5's transport delay).
+TEST(AutotuneDesign, TwoLagsOnlyForALagAboveATwentiethOfC) {
+  control::TunedDesign d;
+  control::AutotuneResult r = tune_of(460, 42.9, 9.41, 36.1);  // seed003, seed 12345
+  r.sensor_lag_q8 = static_cast<int32_t>(5.25 * 256);
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_TRUE(d.two_lags);
+  EXPECT_FALSE(d.lag_paced);
+  control::StateFeedbackConstants k;
+  ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
+  EXPECT_EQ(k.n, 2);
+  EXPECT_TRUE(d.two_lags);
+  r = tune_of(437, 362.4, 26.62, 29.2);  // heavy-slow
+  r.sensor_lag_q8 = static_cast<int32_t>(26.62 * 256);
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_TRUE(d.two_lags);
+  r = tune_of(1226, 257.4, 4.04, 70.6);  // hotend80w: lag 3.46 s ≤ C/20
+  r.sensor_lag_q8 = static_cast<int32_t>(3.46 * 256);
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_FALSE(d.two_lags);
+  ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
+  EXPECT_EQ(k.n, 1);
+  r = tune_of(603, 270.3, 7.78, 21.3);  // hotend40w-delay5: no lag seen, a late peak
+  r.late_peak = true;
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_FALSE(d.two_lags);
+  r = tune_of(450, 120.5, 23.8, 3.4);  // fopdt-delay25
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_FALSE(d.two_lags);
+  r = tune_of(450, 60, 25, 40);  // a lag, but D with its margin beyond C/2: the FOPDT's design
+  r.sensor_lag_q8 = 20 * 256;
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_FALSE(d.two_lags);
+  ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
+  EXPECT_EQ(k.n, 1);
+}
+
 TEST(AutotuneDesign, RefusesModelsOutsideM307sRange) {
   control::TunedDesign d;
   EXPECT_FALSE(control::design_from_tune(tune_of(5, 100, 2, 10), 128, &d));      // gain below 10 °C

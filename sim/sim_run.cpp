@@ -227,7 +227,10 @@ void Runner::expect_board_design(const std::string& applied) {
   for (int i = 0; i < 4; ++i) q8[i] = static_cast<int32_t>(std::lround(v[i] * 256.0));
   control::StateFeedbackConstants k;
   const bool paced = applied.find("paced by D") != std::string::npos;  // T_cl ≥ D (control/autotune_design.h)
-  if (!control::design_state_feedback_fopdt(control::HotendModel{q8[0], q8[1], q8[2], q8[3]}, 128, &k, paced)) {
+  const bool two_lags = applied.find("two lags") != std::string::npos;  // τ1 = C, τ2 = D
+  const control::HotendModel model{q8[0], q8[1], q8[2], q8[3]};
+  if (!(two_lags ? control::design_state_feedback_two_lags(model, 128, &k)
+                 : control::design_state_feedback_fopdt(model, 128, &k, paced))) {
     result_.problems.push_back("the host's build of the board design refuses the applied " + applied.substr(at));
     return;
   }

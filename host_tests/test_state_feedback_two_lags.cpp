@@ -1,0 +1,226 @@
+// control/state_feedback_autodesign's two-lag design (n = 2, integer-only) against the host's
+// double-precision design of the same model, design::second_order(K, τ1 = C, τ2 = D) with the
+// board's closed-loop speed (T_cl = max(t_rise/16, 0.6·τ2, 2h) instead of the host's saturation
+// search): constants field by field, and both closed loops on the exact two-lag plant.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "control/state_feedback.h"
+#include "control/state_feedback_autodesign.h"
+#include "design/plant_sim.h"
+#include "design/state_feedback_quantize.h"
+
+namespace {
+
+using control::HotendModel;
+using control::StateFeedbackConstants;
+
+struct TwoLags {
+  double k, t1, t2, f;  // °C per unit duty, s, s, % of the no-fan loss
+};
+
+HotendModel board_model(const TwoLags& p) {
+  return HotendModel{static_cast<int32_t>(std::lround(p.k * 256)), static_cast<int32_t>(std::lround(p.t1 * 256)),
+                     static_cast<int32_t>(std::lround(p.t2 * 256)), static_cast<int32_t>(std::lround(p.f * 256))};
+}
+
+design::LtiModel host_model(const HotendModel& m) {
+  const double k = m.rise_q8 / 256.0;
+  design::LtiModel model = design::second_order(k, m.time_constant_q8 / 256.0, m.dead_time_q8 / 256.0);
+  model.fan_loss_per_k = m.fan_loss_pct_q8 / 256.0 / 100.0 / k;
+  return model;
+}
+
+// The board's pole rule in double (state_feedback_autodesign.h), then the host's design at it.
+design::Design host_design(const HotendModel& m) {
+  const double k = m.rise_q8 / 256.0, t1 = m.time_constant_q8 / 256.0, t2 = m.dead_time_q8 / 256.0, h = 0.256;
+  const double t_rise = k > 185 ? t1 * std::log(k * t1 / (t1 - t2) / (k - 185)) : t1;
+  const double c = std::fmin(std::fmin(16 * h / t_rise, h / (0.6 * t2)), 0.5);
+  const design::LtiModel model = host_model(m);
+  design::DesignOptions o;
+  design::Design probe;
+  design::design_model(model, o, &probe);
+  o.search_speed = false;
+  o.rise_fraction = (probe.t_rise_s > 0 ? probe.t_rise_s : probe.t_dom_s) / (h / c);
+  return design::design_state_feedback(model, o);
+}
+
+// K 300–1200 °C, τ1 20–400 s, τ2 6–45 % of τ1 (at least 0.5 s), F 0–60 %.
+std::vector<TwoLags> grid() {
+  const double ks[] = {300, 450, 700, 1200}, ts[] = {20, 45, 100, 220, 400}, rs[] = {0.06, 0.12, 0.25, 0.45};
+  const double fs[] = {0, 25, 42.65, 60};
+  std::vector<TwoLags> out;
+  int i = 0;
+  for (double k : ks)
+    for (double t : ts)
+      for (double r : rs) out.push_back(TwoLags{k, t, std::fmax(0.5, r * t), fs[i++ % 4]});
+  return out;
+}
+
+struct Field {
+  std::string name;
+  int16_t mb, mh;
+  uint8_t sb, sh;
+};
+
+std::vector<Field> fields(const StateFeedbackConstants& b, const StateFeedbackConstants& h) {
+  std::vector<Field> f;
+  for (int i = 0; i < 2; ++i) {
+    const std::string n = "[" + std::to_string(i) + "]";
+    f.push_back({"phi_diag" + n, b.phi_diag[i], h.phi_diag[i], b.phi_shift[i], h.phi_shift[i]});
+    f.push_back({"phi_off" + n, b.phi_off[i], h.phi_off[i], b.phi_shift[i], h.phi_shift[i]});
+    f.push_back({"gamma_a" + n, b.gamma_a[i], h.gamma_a[i], b.phi_shift[i], h.phi_shift[i]});
+    f.push_back({"gamma_b" + n, b.gamma_b[i], h.gamma_b[i], b.phi_shift[i], h.phi_shift[i]});
+    f.push_back({"fb_gain" + n, b.fb_gain[i], h.fb_gain[i], b.ctrl_shift, h.ctrl_shift});
+    f.push_back({"ss_share" + n, b.ss_share[i], h.ss_share[i], b.ss_share_shift, h.ss_share_shift});
+  }
+  for (int i = 0; i < 3; ++i)
+    f.push_back({"obs_gain[" + std::to_string(i) + "]", b.obs_gain[i], h.obs_gain[i], b.obs_shift[i], h.obs_shift[i]});
+  f.push_back({"ff_gain", b.ff_gain, h.ff_gain, b.ctrl_shift, h.ctrl_shift});
+  f.push_back({"bias_gain", b.bias_gain, h.bias_gain, b.ctrl_shift, h.ctrl_shift});
+  f.push_back({"fan_gain", b.fan_gain, h.fan_gain, b.fan_shift, h.fan_shift});
+  f.push_back({"inv_gain", b.inv_gain, h.inv_gain, b.inv_gain_shift, h.inv_gain_shift});
+  return f;
+}
+
+double value(int16_t m, uint8_t s) { return std::ldexp(static_cast<double>(m), -s); }
+
+TEST(StateFeedbackTwoLags, MatchesTheHostDesignFieldByField) {
+  double worst_rel = 0;
+  int worst_lsb = 0, shift_mismatches = 0;
+  std::string worst_rel_field, worst_lsb_field;
+  for (const TwoLags& p : grid()) {
+    SCOPED_TRACE(::testing::Message() << "K " << p.k << " t1 " << p.t1 << " t2 " << p.t2 << " F " << p.f);
+    const HotendModel m = board_model(p);
+    StateFeedbackConstants board, host;
+    ASSERT_TRUE(control::design_state_feedback_two_lags(m, 128, &board));
+    const design::Design d = host_design(m);
+    ASSERT_EQ(d.error, nullptr);
+    const char* err = design::quantize(d, host_model(m).fan_loss_per_k, &host);
+    ASSERT_EQ(err, nullptr) << err;
+    control::StateFeedback sf;
+    EXPECT_TRUE(sf.configure(board));
+    EXPECT_EQ(board.n, host.n);
+    EXPECT_EQ(board.output_mask, host.output_mask);
+    EXPECT_EQ(board.delay, host.delay);
+    EXPECT_EQ(board.decimation, host.decimation);
+    EXPECT_EQ(board.input_shift, host.input_shift);
+    EXPECT_EQ(board.ambient_q8, host.ambient_q8);
+    EXPECT_EQ(board.phi_col[0], host.phi_col[0]);
+    EXPECT_EQ(board.phi_col[1], host.phi_col[1]);
+    for (const Field& f : fields(board, host)) {
+      SCOPED_TRACE(f.name);
+      const double vb = value(f.mb, f.sb), vh = value(f.mh, f.sh);
+      const double rel = vh != 0 ? std::fabs(vb - vh) / std::fabs(vh) : std::fabs(vb);
+      if (f.sb != f.sh) {
+        ++shift_mismatches;
+        EXPECT_LT(rel, 1e-4);
+      } else {
+        const int lsb = std::abs(f.mb - f.mh);
+        EXPECT_LE(lsb, 2);
+        if (lsb > worst_lsb) worst_lsb = lsb, worst_lsb_field = f.name;
+      }
+      if (rel > worst_rel) worst_rel = rel, worst_rel_field = f.name;
+    }
+  }
+  std::printf("two-lag design, on-board vs host, %zu models: worst relative %.2e (%s), worst %d LSB (%s), "
+              "rows at a different shift %d\n",
+              grid().size(), worst_rel, worst_rel_field.c_str(), worst_lsb, worst_lsb_field.c_str(), shift_mismatches);
+}
+
+// Heat-up 25 → 210 °C, then the part fan to 100 %, on the exact two-lag plant (σ 0.05 °C).
+std::vector<double> closed_loop(const design::LtiModel& plant, const StateFeedbackConstants& k, double fan_at_s,
+                                double end_s) {
+  control::StateFeedback sf;
+  EXPECT_TRUE(sf.configure(k));
+  design::PlantSim sim(plant);
+  sim.set_noise(0.05);
+  std::vector<double> trace;
+  for (double t = 0; t < end_s; t += 0.128) {
+    const bool fan = t >= fan_at_s;
+    sim.set_fan(fan ? 1.0 : 0.0);
+    const control::StepInput in{210 * 256, static_cast<int32_t>(std::lround(sim.measured_c() * 256)),
+                                static_cast<uint8_t>(fan ? 255 : 0)};
+    sim.run(sf.step(in) / 65535.0, 0.128);
+    trace.push_back(sim.true_c());
+  }
+  return trace;
+}
+
+TEST(StateFeedbackTwoLags, ClosedLoopFollowsTheHostDesignWithinTwoTenthsOfAKelvin) {
+  double worst = 0;
+  TwoLags worst_at{};
+  for (const TwoLags& p : grid()) {
+    const HotendModel m = board_model(p);
+    const design::LtiModel plant = host_model(m);
+    StateFeedbackConstants board, host;
+    ASSERT_TRUE(control::design_state_feedback_two_lags(m, 128, &board));
+    ASSERT_EQ(design::quantize(host_design(m), plant.fan_loss_per_k, &host), nullptr);
+    const double rise_s = -p.t1 * std::log(1 - 185 / p.k) + p.t2;
+    const double fan_at = 2 * rise_s + 4 * p.t2 + 30;
+    const std::vector<double> a = closed_loop(plant, board, fan_at, fan_at + 0.5 * p.t1 + 4 * p.t2 + 30);
+    const std::vector<double> b = closed_loop(plant, host, fan_at, fan_at + 0.5 * p.t1 + 4 * p.t2 + 30);
+    const size_t before_fan = static_cast<size_t>(fan_at / 0.128) - 1;
+    EXPECT_NEAR(a[before_fan], 210, 0.3) << "K " << p.k << " t1 " << p.t1 << " t2 " << p.t2;
+    EXPECT_NEAR(a.back(), 210, 0.5) << "K " << p.k << " t1 " << p.t1 << " t2 " << p.t2;
+    double dev = 0;
+    for (size_t i = 0; i < a.size(); ++i) dev = std::fmax(dev, std::fabs(a[i] - b[i]));
+    EXPECT_LE(dev, 0.2) << "K " << p.k << " t1 " << p.t1 << " t2 " << p.t2 << " F " << p.f;
+    if (dev > worst) worst = dev, worst_at = p;
+  }
+  std::printf("two-lag closed loop, on-board vs host constants: worst |dT| %.4f °C at K %g t1 %g t2 %g F %g\n", worst,
+              worst_at.k, worst_at.t1, worst_at.t2, worst_at.f);
+}
+
+// Outside what it designs: all-zero constants no controller accepts.
+TEST(StateFeedbackTwoLags, RefusesModelsItDoesNotDesign) {
+  const HotendModel good = board_model(TwoLags{460, 43, 12, 30});
+  const HotendModel bad[] = {
+      {good.rise_q8, good.time_constant_q8, 0, good.fan_loss_pct_q8},                          // no second lag
+      {good.rise_q8, good.time_constant_q8, good.time_constant_q8 / 2 + 1, good.fan_loss_pct_q8},  // τ2 > τ1/2
+      {0, good.time_constant_q8, good.dead_time_q8, good.fan_loss_pct_q8},
+      {INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX},
+  };
+  const StateFeedbackConstants zero = {};
+  for (const HotendModel& m : bad) {
+    StateFeedbackConstants k;
+    std::memset(&k, 0x5A, sizeof k);
+    EXPECT_FALSE(control::design_state_feedback_two_lags(m, 128, &k));
+    EXPECT_EQ(std::memcmp(&k, &zero, sizeof k), 0);
+  }
+  StateFeedbackConstants k;
+  EXPECT_TRUE(control::design_state_feedback_two_lags(good, 128, &k));
+  EXPECT_FALSE(control::design_state_feedback_two_lags(good, 0, &k));
+}
+
+// The corners of what M307 accepts read as two lags: every design passes the runtime's checks
+// (and the controller takes it) or is refused with all-zero constants; none crashes.
+TEST(StateFeedbackTwoLags, EdgeModelsAreValidOrRefused) {
+  const double ks[] = {10, 100, 185, 190, 2000}, ts[] = {1, 3, 30, 600, 3600}, rs[] = {0.01, 0.1, 0.25, 0.5};
+  int designed = 0, total = 0;
+  const StateFeedbackConstants zero = {};
+  for (double kk : ks)
+    for (double t : ts)
+      for (double r : rs) {
+        SCOPED_TRACE(::testing::Message() << "K " << kk << " t1 " << t << " t2 " << r * t);
+        ++total;
+        StateFeedbackConstants k;
+        if (!control::design_state_feedback_two_lags(board_model(TwoLags{kk, t, r * t, 500}), 128, &k)) {
+          EXPECT_EQ(std::memcmp(&k, &zero, sizeof k), 0);
+          continue;
+        }
+        ++designed;
+        EXPECT_TRUE(control::state_feedback_constants_valid(k));
+        control::StateFeedback sf;
+        EXPECT_TRUE(sf.configure(k));
+      }
+  std::printf("two-lag edge models designed: %d of %d\n", designed, total);
+  EXPECT_GT(designed, total / 2);
+}
+
+}  // namespace

@@ -72,8 +72,10 @@ constexpr uint8_t kCycleSteps = 13;  // compute steps per stored relay cycle
 __attribute__((noinline)) int32_t abs32(int32_t x) { return x < 0 ? -x : x; }
 
 // x / 2^n truncated toward zero, as `/` does: avr-gcc -Os compiles a signed int32 divided by a
-// power-of-two constant into a library division (≈ 650 cycles); this is a few shifts.
-template <uint8_t n> __attribute__((noinline)) int32_t div2n(int32_t x) { return x < 0 ? -(-x >> n) : x >> n; }
+// power-of-two constant into a library division (≈ 650 cycles); this is a few shifts. n is an
+// argument, not a template parameter: -Os shifts by a constant in a loop anyway, and one copy
+// instead of four (n = 1, 2, 4, 5) is 164 B less flash.
+__attribute__((noinline)) int32_t div2n(int32_t x, uint8_t n) { return x < 0 ? -(-x >> n) : x >> n; }
 
 // A member far into the object (offset > 63) costs avr-gcc pointer arithmetic on every access;
 // a pointer to its struct hidden from the optimiser is loaded once and then reached with LDD.
@@ -87,6 +89,17 @@ __attribute__((noinline)) uint16_t clamp_duty(int32_t x) { return fixed::sat_u16
 
 __attribute__((noinline)) uint16_t clamp_step(uint32_t d) {
   return static_cast<uint16_t>(d > kMaxDutyStepQ16 ? kMaxDutyStepQ16 : (d < kMinDutyStepQ16 ? kMinDutyStepQ16 : d));
+}
+
+// min(x, cap) · 2^16 / den, cap < 2^16: the capped Q16 ratios of the bin logic and the compute,
+// one call instead of a 32-bit compare, shift and division written out at each of five sites.
+__attribute__((noinline)) uint32_t capped_ratio_q16(uint32_t x, uint16_t cap, uint32_t den) {
+  return (uint32_t{x > cap ? cap : x} << 16) / den;
+}
+
+// A model value (°C × 256) as a predictor ring entry: °C × 16, saturated to ±2,000 °C.
+__attribute__((noinline)) int16_t ring_entry(int32_t x_q8) {
+  return static_cast<int16_t>(fixed::clamp(div2n(x_q8, 4), int32_t{-32000}, int32_t{32000}));
 }
 
 // x · 2^16 / den for x ≥ 0, den > 0, with one 32-bit division: x is shifted up as far as it
@@ -212,9 +225,25 @@ uint8_t Autotune::ring_index(uint8_t bins) const {
   return static_cast<uint8_t>((ring_head_ + kRingBins - 1 - (bins % kRingBins)) % kRingBins);
 }
 
+// The reading's 4-bin slope (°C × 256 per bin), ending at the last bin: one call for its four users.
+__attribute__((noinline)) int32_t Autotune::slope4_q8() const { return div2n(y_bin_q8_ - y_hist_q8_[3], 2); }
+
 __attribute__((noinline)) int32_t Autotune::model_ago(uint8_t bins) const { return int32_t{ring_[ring_index(bins)]} * 16 + offset_q8_; }
 
 uint8_t Autotune::duty_ago(uint8_t bins) const { return duty_ring_[ring_index(bins)]; }
+
+// The bin just completed into the histories: its mean duty and the model's entry (0 outside the
+// approach and the relay). One copy for bin_end and model_bin.
+__attribute__((noinline)) void Autotune::push_bin(int16_t model_entry) {
+  duty_ring_[ring_head_] = static_cast<uint8_t>(last_bin_duty_q8_ > 255 ? 255 : last_bin_duty_q8_);
+  ring_[ring_head_] = model_entry;
+  ring_head_ = static_cast<uint8_t>((ring_head_ + 1) % kRingBins);
+}
+
+// The model's rise per bin at a bin's mean duty (256 = 100 %), rounded: S < 2^15, × 256 < 2^23.
+__attribute__((noinline)) int32_t Autotune::heat_q8(uint16_t duty_q8) const {
+  return static_cast<int32_t>((static_cast<uint32_t>(slope_q8_) * duty_q8 + 128) >> 8);
+}
 
 AutotuneOutput Autotune::step(int32_t y) {
   event_ = AutotuneEvent::kNone;
@@ -298,7 +327,7 @@ AutotuneOutput Autotune::step(int32_t y) {
       probe_pending_ = false;
       // A cold hotend's baseline over the last 4 bins (σ halved on a noisy sensor); a hot one
       // decays by up to ~1 °C a bin: its last bin.
-      probe_.base_rise_q8 = (hot_start_ || probe_.retries != 0 ? y_bin_q8_ : div2n<2>(y_bin_q8_ + y_hist_q8_[0] + y_hist_q8_[1] + y_hist_q8_[2] + 2)) -
+      probe_.base_rise_q8 = (hot_start_ || probe_.retries != 0 ? y_bin_q8_ : div2n(y_bin_q8_ + y_hist_q8_[0] + y_hist_q8_[1] + y_hist_q8_[2] + 2, 2)) -
                       ambient_q8_;
       start_probe();
       stage_ = 0;
@@ -327,9 +356,7 @@ void Autotune::bin_end() {
   bin_ticks_ = 0;
   ++bins_;
   if (phase_ != Phase::kApproach && phase_ != Phase::kRelay) {
-    duty_ring_[ring_head_] = static_cast<uint8_t>(last_bin_duty_q8_ > 255 ? 255 : last_bin_duty_q8_);
-    ring_[ring_head_] = 0;
-    ring_head_ = static_cast<uint8_t>((ring_head_ + 1) % kRingBins);
+    push_bin(0);
   }
 }
 
@@ -361,7 +388,7 @@ uint8_t Autotune::baseline_stage(uint8_t stage) {
   if (bins_ < 3) return 0;
   const int32_t rise = y0_q8_ - ambient_q8_;
   if (stage == 1) {
-    const int32_t slope = div2n<1>(y_bin_q8_ - y_prev2_q8_);  // per bin
+    const int32_t slope = div2n(y_bin_q8_ - y_prev2_q8_, 1);  // per bin
     y0_q8_ = y_bin_q8_;
     if (!ambient_given_ && y0_q8_ < 40 * kQ8 && abs32(slope) < kQ8 / 10 && !hot_start_) {
       ambient_q8_ = y0_q8_;
@@ -382,8 +409,8 @@ uint8_t Autotune::baseline_stage(uint8_t stage) {
     probe_.base_rate_q16 = 0;
     const int32_t slope = pending_q8_;
     if (hot_start_ && slope < 0 && rise > 10 * kQ8) {
-      const uint32_t ds = static_cast<uint32_t>(-slope > 32767 ? 32767 : -slope);
-      probe_.base_rate_q16 = clamp_duty(static_cast<int32_t>((ds << 16) / static_cast<uint32_t>(rise)));
+      probe_.base_rate_q16 = clamp_duty(static_cast<int32_t>(
+          capped_ratio_q16(static_cast<uint32_t>(-slope), 32767, static_cast<uint32_t>(rise))));
     }
     probe_.base_rise_q8 = rise;
     return 3;
@@ -430,7 +457,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
   if (stage == 3) {
     // Loss rate from the decay after the peak: drop / (mid rise · bins), Q16 (drop < 2^15).
     const int32_t drop = p.y_peak_q8 - y_bin_q8_;
-    const int32_t mid_rise = div2n<1>(p.y_peak_q8 + y_bin_q8_) - ambient_q8_;
+    const int32_t mid_rise = div2n(p.y_peak_q8 + y_bin_q8_, 1) - ambient_q8_;
     uint32_t inv_t = 0;
     // A drop under 1 °C (or 4 σ of a noisy reading: the highest bin is itself lifted by the noise)
     // is noise: loss unknown (learnt during the heat-up).
@@ -488,8 +515,8 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
   }
   int32_t slope = 0;
   if (k >= 3) {
-    slope = div2n<1>(p.dev_q8 - p.dev_prev2_q8);  // centred on bin k − 1
-    if (slope > p.slope_max_q8 + div2n<5>(p.slope_max_q8)) p.slope_max_bin = k;
+    slope = div2n(p.dev_q8 - p.dev_prev2_q8, 1);  // centred on bin k − 1
+    if (slope > p.slope_max_q8 + div2n(p.slope_max_q8, 5)) p.slope_max_bin = k;
     if (slope > p.slope_max_q8) {
       p.slope_max_q8 = slope;
       p.slope_max_dev_q8 = p.dev_prev_q8;
@@ -539,7 +566,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     // below their own highest: a 1/16 °C drop on one bin (σ 0.07 °C per bin at σ = 0.2 °C
     // readings) passed for seed000-4's peak at 41 s (89–122 s at σ 0.1), a short dead time
     // that made its model trusted (S + 17.5 °C). Sum ≤ 4 · 2^17.
-    const int32_t dev_s = div2n<2>(p.dev_prev2_q8 + 2 * p.dev_prev_q8 + p.dev_q8 + 2);
+    const int32_t dev_s = div2n(p.dev_prev2_q8 + 2 * p.dev_prev_q8 + p.dev_q8 + 2, 2);
     int32_t& smooth_peak_q8 = p.slope_rise_q8;  // unused on this (the cut) path: no RAM of its own
     if (dev_s > smooth_peak_q8) smooth_peak_q8 = dev_s;
     if (p.dev_q8 > p.dev_peak_q8) {
@@ -643,7 +670,7 @@ void Autotune::set_approach_gain() {
 // readings give the 4-bin slope σ ≈ 6 (Q8 per bin), × 132 bins ≈ ±3 °C of trend, which held
 // seed000-5's approach short of the target until the time limit. |s4| < 2^15 per bin, × ≤ 132.
 int32_t Autotune::trend_q8() const {
-  const int32_t s4 = div2n<2>(y_bin_q8_ - y_hist_q8_[3]) - noise_floor(kTrendNoiseQ8, kTrendSigmaQ4);
+  const int32_t s4 = slope4_q8() - noise_floor(kTrendNoiseQ8, kTrendSigmaQ4);
   return s4 > 0 ? y_bin_q8_ + s4 * guard_bins_ : y_bin_q8_;
 }
 
@@ -678,7 +705,7 @@ __attribute__((noinline)) int32_t Autotune::noise_floor(int32_t fixed_q8, uint8_
 // One 32-bit division: loss ≤ 2^14 (°C/bin × 256, clamped), × 2^16 < 2^31.
 int32_t Autotune::steady_from_model() const {
   const uint32_t loss = static_cast<uint32_t>(fixed::mul_q16(target_q8_ - ambient_q8_, inv_t_q16_));
-  const uint32_t u = ((loss > 16383 ? 16383 : loss) << 16) / static_cast<uint32_t>(slope_q8_);
+  const uint32_t u = capped_ratio_q16(loss, 16383, static_cast<uint32_t>(slope_q8_));
   return static_cast<int32_t>(u > kFull ? kFull : u);
 }
 
@@ -690,12 +717,10 @@ void Autotune::model_bin() {
   // the heat in flight. The model is anchored to the reading (its delayed state pulled towards
   // it, a quarter per bin, by shifting the whole history through offset_q8_), so its loss term
   // works on the real temperature.
-  model_q8_ += static_cast<int32_t>((static_cast<uint32_t>(slope_q8_) * last_bin_duty_q8_ + 128) >> 8) -
+  model_q8_ += heat_q8(last_bin_duty_q8_) -
                fixed::mul_q16(model_q8_, inv_t_q16_);
   model_q8_ = fixed::clamp(model_q8_, int32_t{-30000} * 16, int32_t{30000} * 16);
-  ring_[ring_head_] = static_cast<int16_t>(fixed::clamp(div2n<4>(model_q8_ - offset_q8_), int32_t{-32000}, int32_t{32000}));
-  duty_ring_[ring_head_] = static_cast<uint8_t>(last_bin_duty_q8_ > 255 ? 255 : last_bin_duty_q8_);
-  ring_head_ = static_cast<uint8_t>((ring_head_ + 1) % kRingBins);
+  push_bin(ring_entry(model_q8_ - offset_q8_));
   // Bins the duty has stayed within ±8 % of where this stretch began.
   if (abs32(static_cast<int32_t>(last_bin_duty_q8_) - ap.steady_ref) < 20) {
     if (ap.steady_bins < 250) ++ap.steady_bins;
@@ -713,10 +738,9 @@ void Autotune::model_anchor() {
     // The pre-approach history entry read below (L̂ bins ago), one recursion step per bin.
     --ap.fill_j;
     ap.fill_x_q8 += (ap.fill_j < ap.fill_on ? slope_q8_ : 0) - fixed::mul_q16(ap.fill_x_q8, ap.fill_a_q16);
-    ring_[(ap.fill_head + kRingBins - 1 - ap.fill_j) % kRingBins] =
-        static_cast<int16_t>(fixed::clamp(div2n<4>(ap.fill_x_q8), int32_t{-32000}, int32_t{32000}));
+    ring_[(ap.fill_head + kRingBins - 1 - ap.fill_j) % kRingBins] = ring_entry(ap.fill_x_q8);
   }
-  const int32_t anchor = div2n<2>(y_bin_q8_ - ambient_q8_ - model_ago(horizon_bins_));
+  const int32_t anchor = div2n(y_bin_q8_ - ambient_q8_ - model_ago(horizon_bins_), 2);
   offset_q8_ += anchor;
   model_q8_ += anchor;
   // An untrusted model's relay and fan hold: heater off while the trend would carry the reading
@@ -741,9 +765,9 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // exactly. Only while the duty has been steady (within 8 %) over L̂ + 6 bins: in transients
       // a dead time that is off by a bin would pass for a loss error.
       if (ap.full_bins == 0 && rise > 20 * kQ8 && ap.steady_bins >= horizon_bins_ + 6) {
-        const int32_t s4 = div2n<2>(y_bin_q8_ - y_hist_q8_[3]);
+        const int32_t s4 = slope4_q8();
         const int32_t centre = rise - 2 * s4;
-        const int32_t model_slope = static_cast<int32_t>((static_cast<uint32_t>(slope_q8_) * duty_ago(horizon_bins_ + 2) + 128) >> 8) -
+        const int32_t model_slope = heat_q8(duty_ago(horizon_bins_ + 2)) -
                                     fixed::mul_q16(centre, inv_t_q16_);
         const int32_t err = model_slope - s4;  // > 0: more loss than the model has
         // |err| ≤ 2^18 (clamped) × 2^13 < 2^31.
@@ -757,7 +781,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // over at least 40 °C (the same estimator at both ends: no bias from taking a maximum).
       ap.full_bins = last_bin_duty_q8_ >= 255 ? static_cast<uint8_t>(ap.full_bins < 250 ? ap.full_bins + 1 : 250) : 0;
       if (ap.full_bins > horizon_bins_ + 4) {
-        const int32_t s4 = div2n<2>(y_bin_q8_ - y_hist_q8_[3]);
+        const int32_t s4 = slope4_q8();
         const int32_t at = rise - 2 * s4;  // rise at the window's centre
         if (ap.ref_slope_q8 == 0) {
           ap.ref_slope_q8 = s4 > 0 ? s4 : 1;
@@ -765,7 +789,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         } else if (at - ap.ref_rise_q8 > 40 * kQ8 && s4 < ap.ref_slope_q8) {
           // ref_slope − s4 ≤ a full-power slope per bin (< 2^15 for < 128 °C/s) × 2^16 < 2^31.
           const uint32_t ds = static_cast<uint32_t>(ap.ref_slope_q8 - s4);
-          const uint32_t inv_t = ((ds > 32767 ? 32767 : ds) << 16) / static_cast<uint32_t>(at - ap.ref_rise_q8);
+          const uint32_t inv_t = capped_ratio_q16(ds, 32767, static_cast<uint32_t>(at - ap.ref_rise_q8));
           inv_t_q16_ = static_cast<uint16_t>(inv_t > 16384 ? 16384 : inv_t);
         }
         // A probe cut short while the lags were still filling (a hot start has little room
@@ -774,7 +798,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         // S shown here replaces it (never lowered: a low S only errs towards overshoot).
         // at·(1/T) < 2^17, s4 < 2^15: the sum < 2^18, clamped to 2^15 as the probe's S.
         const int32_t s_full = fixed::clamp(s4 + fixed::mul_q16(at, inv_t_q16_), int32_t{0}, int32_t{32767});
-        if (s_full > slope_q8_ + div2n<4>(slope_q8_)) {
+        if (s_full > slope_q8_ + div2n(slope_q8_, 4)) {
           slope_q8_ = s_full;
           return 8;
         }
@@ -800,7 +824,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // The fan hold on an untrusted model, as its relay (guard_off_: seed000 at σ 0.3 °C reached
       // S + 5.3 without).
       if (ap.hold_bins != 0 && guard_off_) duty_q16_ = 0;
-      ap.duty_avg_q16 += div2n<2>(static_cast<int32_t>(duty_q16_) - ap.duty_avg_q16);
+      ap.duty_avg_q16 += div2n(static_cast<int32_t>(duty_q16_) - ap.duty_avg_q16, 2);
       // (An untrusted model's P law may stall short of the target: the relay takes over nearer.)
       ap.settled_bins = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? 4 * kSettleBandQ8 : kSettleBandQ8)
                           ? static_cast<uint8_t>(ap.settled_bins + 1)
@@ -879,7 +903,7 @@ uint8_t Autotune::relay_stage(uint8_t stage) {
     // the wait), approaching at under a quarter of the S·d a level d off ū gives (a slow mode
     // creeping at 0.005 °C/s; the noise used to nudge such a relay by chance).
     // S·d < 2^15 · 2^14 >> 16 < 2^13, × since < 2^16: < 2^29; progress < 2^15, × 32 < 2^20.
-    const int32_t s4 = div2n<2>(y_bin_q8_ - y_hist_q8_[3]);  // per bin
+    const int32_t s4 = slope4_q8();  // per bin
     const int32_t ds_min = noise_floor(0, kDriftSigmaQ4);
     const bool far = relay_hi_ ? y_bin_q8_ < target_q8_ : y_bin_q8_ > target_q8_;
     const bool away = relay_hi_ ? s4 < -ds_min : s4 > ds_min;
@@ -895,7 +919,7 @@ uint8_t Autotune::relay_stage(uint8_t stage) {
     // (A stall's slope, within the noise, is taken as 0: noise over a slow hotend's small S moved
     // the bias by several d.)
     const uint32_t ds = away ? static_cast<uint32_t>(abs32(s4)) : 0u;
-    const int32_t shift = static_cast<int32_t>(((ds > 32767 ? 32767 : ds) << 16) / static_cast<uint32_t>(slope_q8_));
+    const int32_t shift = static_cast<int32_t>(capped_ratio_q16(ds, 32767, static_cast<uint32_t>(slope_q8_)));
     pending_q8_ = s4 < 0 ? level + shift : level - shift;
     return 4;
   }
@@ -974,7 +998,7 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
 // The switch that completes a cycle: copy its figures (no division); cycle_stage does the rest.
 void Autotune::end_cycle(uint16_t t_lo) {
   period_ticks_ = static_cast<uint16_t>(t_hi_ + t_lo);
-  cyc_a_q8_ = div2n<1>(cyc_max_q8_ - cyc_min_q8_);
+  cyc_a_q8_ = div2n(cyc_max_q8_ - cyc_min_q8_, 1);
   if (cyc_a_q8_ < 1) cyc_a_q8_ = 1;
   cyc_duty_done_ = cyc_sum_duty_;
   cycle_.min_q8 = cyc_min_q8_;
@@ -1094,13 +1118,13 @@ bool Autotune::compute_chunk() {
       v.a_hi = first_ticks_ > 0 ? first_dev_ / first_ticks_ : 0;
     } else if (sub == 1) {
       v.a_lo = (last_ticks_ > 0 ? last_dev_ / last_ticks_ : 0) - v.a_hi;
-      v.a_hi = (static_cast<int32_t>(sum_ticks_[0]) - div2n<1>(first_ticks_ + last_ticks_)) >> 3;  // span, bins
+      v.a_hi = (static_cast<int32_t>(sum_ticks_[0]) - div2n(first_ticks_ + last_ticks_, 1)) >> 3;  // span, bins
     } else if (sub == 2) {
       // T·ẏ = Δ · 2^16 / (span · 1/T): |Δ| clamped to 2^13, × 2^16 < 2^30; span < 2^13 bins ×
       // 1/T ≤ 2^14 < 2^27 (≥ 1, else no correction).
       const int32_t d = part == 0 ? v.a_lo : pending_q8_;
       const uint32_t den = static_cast<uint32_t>(part == 0 ? v.a_hi : appr_.hold_len) * (part == 0 ? inv_t_nofan_q16_ : inv_t_q16_);
-      const uint32_t c = static_cast<int32_t>(den) > 0 ? (static_cast<uint32_t>(abs32(d) > 8192 ? 8192 : abs32(d)) << 16) / den : 0;
+      const uint32_t c = static_cast<int32_t>(den) > 0 ? capped_ratio_q16(static_cast<uint32_t>(abs32(d)), 8192, den) : 0;
       v.a_hi = static_cast<int32_t>(c > 8192 ? 8192 : c);
       if (d < 0) v.a_hi = -v.a_hi;
     } else if (sub == 3) {

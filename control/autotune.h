@@ -173,10 +173,16 @@ class Autotune {
   int32_t seconds_q8(uint16_t ticks) const;
   uint32_t ticks_from_s(uint16_t s) const;
   int32_t model_ago(uint8_t bins) const;
+  int32_t slope4_q8() const;
+  void push_bin(int16_t model_entry);
+  int32_t heat_q8(uint16_t duty_q8) const;
   uint8_t duty_ago(uint8_t bins) const;
   uint8_t ring_index(uint8_t bins) const;
 
-  // Hot scalars first: avr-gcc reaches members at offsets < 64 with one instruction.
+  // Hot scalars first: avr-gcc reaches members at offsets < 64 with one instruction (LDD/STD;
+  // beyond, a pointer adjustment each time). Which ones sit here was measured: pending_q8_,
+  // hot_start_, untrusted_ and the probe's maximum in place of model_q8_ and cyc_sum_duty_ saved
+  // 138 B of flash.
   AutotuneState state_ = AutotuneState::kIdle;
   AutotuneFailure failure_ = AutotuneFailure::kNone;
   Phase phase_ = Phase::kIdle;
@@ -190,7 +196,8 @@ class Autotune {
   int32_t slope_q8_ = 0;        // S: rise per bin at 100 % (°C × 256)
   uint16_t inv_t_q16_ = 0;      // loss rate 1/T per bin, Q16
   uint8_t horizon_bins_ = 0;
-  int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)
+  int32_t pending_q8_ = 0;      // a value carried from one stage to the next (the fan hold: its
+                                // first bin mean, for its drift)
   int32_t horizon_ticks_ = 0;   // L̂
   int32_t target_q8_ = 0;
   int32_t ambient_q8_ = 0;  // (kDefaultAmbientQ8 from start() unless measured or given)
@@ -199,14 +206,25 @@ class Autotune {
   bool relay_hi_ = false;
   bool heater_on_ = false;
   bool probe_pending_ = false;  // start the probe at the next bin boundary
+  bool hot_start_ = false;
+  // The probe's model cannot be trusted (cut-to-peak time beyond the history, or no clean peak):
+  // the approach and the relay then also keep the reading's own
+  // trend over guard_bins_ below the target (+ a margin in the relay): slower, never above S + 5.
+  bool untrusted_ = false;
   uint8_t yf_head_ = 0;
   uint8_t ring_head_ = 0;
   uint16_t bias_q16_ = 0;
   uint16_t d_q16_ = 0;
   int32_t cyc_min_q8_ = 0, cyc_max_q8_ = 0;
+  // Cool phase: the reading it started at. From the probe on (the cool phase is over): the
+  // highest reading after the pulse's cut, then (cut probe) its height above the baseline.
+  union {
+    int32_t cool_ref_q8_ = 0;
+    int32_t probe_max_q8_;
+  };
   int32_t cyc_sum_dev_ = 0;     // Σ (y − target) over the cycle's ticks (q8)
-  uint32_t cyc_sum_duty_ = 0;   // Σ duty q16 over the cycle's ticks
   uint16_t last_bin_duty_q8_ = 0;  // mean duty of the last bin, 256 = 100 %
+  uint32_t cyc_sum_duty_ = 0;   // Σ duty q16 over the cycle's ticks
 
   int32_t bin_sum_q8_ = 0;
   uint32_t tick_ = 0;
@@ -258,14 +276,7 @@ class Autotune {
   };
   Probe probe_ = {};
   int32_t start_q8_ = 0;       // reading at start()
-  bool hot_start_ = false;
   bool cooled_ = false;        // a hot start has shown its decay
-  // Cool phase: the reading it started at. From the probe on (the cool phase is over): the
-  // highest reading after the pulse's cut, then (cut probe) its height above the baseline.
-  union {
-    int32_t cool_ref_q8_ = 0;
-    int32_t probe_max_q8_;
-  };
   // Reading noise, measured while nothing but noise moves the reading (baseline, cooling, the
   // probe until its response shows): Σ|second difference| over noise_n_ readings, and the σ
   // it gives (°C × 256). The probe's thresholds, the relay's hysteresis and the trend guard's
@@ -285,6 +296,8 @@ class Autotune {
     int32_t ref_slope_q8;     // loss learning: rise where the slope S was measured
     uint8_t full_bins;       // consecutive bins at 100 % in the approach
     int32_t duty_avg_q16;    // smoothed approach duty (relay bias)
+    // The model's history before the approach, generated one entry per bin as it is first read
+    // (instead of all L̂ entries at once): entry j bins before the approach began.
     int32_t fill_x_q8;
     uint8_t fill_j;          // entries j ≥ fill_j written
     uint8_t fill_on;         // the last fill_on bins were at full power
@@ -298,14 +311,7 @@ class Autotune {
     int8_t side;
   };
   Approach appr_ = {};
-  // The model's history before the approach, generated one entry per bin as it is first read
-  // (instead of all L̂ entries at once): entry j bins before the approach began.
-  int32_t pending_q8_ = 0;      // a value carried from one stage to the next (the fan hold: its
-                                // first bin mean, for its drift)
-  // The probe's model cannot be trusted (cut-to-peak time beyond the history, or no clean peak):
-  // the approach and the relay then also keep the reading's own
-  // trend over guard_bins_ below the target (+ a margin in the relay): slower, never above S + 5.
-  bool untrusted_ = false;
+  int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)
   bool guard_off_ = false;      // relay and fan hold: heater off while the trend would carry the reading too high
   uint8_t guard_bins_ = 0;
 

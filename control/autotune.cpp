@@ -1114,11 +1114,12 @@ bool Autotune::compute_chunk() {
     // ẏ: relay, the first and last measured cycles' means (centre to centre); fan hold, its first
     // and last bins. T: the learnt 1/T (the relay's from before the fan came on).
     // Cycle sums: |dev| ≤ 2^13 per tick × ≤ 2^16 ticks.
+    // first_ticks_ + last_ticks_ in 32 bits: each is up to 2^16 − 1 ticks, and int is 16 bits on AVR.
     if (sub == 0) {
       v.a_hi = first_ticks_ > 0 ? first_dev_ / first_ticks_ : 0;
     } else if (sub == 1) {
       v.a_lo = (last_ticks_ > 0 ? last_dev_ / last_ticks_ : 0) - v.a_hi;
-      v.a_hi = (static_cast<int32_t>(sum_ticks_[0]) - div2n(first_ticks_ + last_ticks_, 1)) >> 3;  // span, bins
+      v.a_hi = (static_cast<int32_t>(sum_ticks_[0]) - div2n(int32_t{first_ticks_} + last_ticks_, 1)) >> 3;  // span, bins
     } else if (sub == 2) {
       // T·ẏ = Δ · 2^16 / (span · 1/T): |Δ| clamped to 2^13, × 2^16 < 2^30; span < 2^13 bins ×
       // 1/T ≤ 2^14 < 2^27 (≥ 1, else no correction).

@@ -29,6 +29,9 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
     const int32_t lifted_q8 = tune.ultimate.tu_q8 * 23 / 80;
     if (lifted_q8 > l_q8) l_q8 = lifted_q8;
   }
+  // The floors and margins lengthen a D that M307 accepted; they stop at its 600 s rather than
+  // refuse the model (which would print an in-range M307 as the reason). Also keeps L < 2^18 below.
+  if (l_q8 > kModelMaxDeadTimeQ8) l_q8 = kModelMaxDeadTimeQ8;
   // A lag-type hotend (the tune saw a thermistor lag): its FOPDT stands for two lags, and the
   // designs' dead-time predictor then overshoots unless L has a margin growing with lag/C:
   // L·(1 + 2.5·lag/C) (the board's state feedback on seed003, host: D 9.4 → 7.5 °C, 11.5 → 0.2,
@@ -42,13 +45,13 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
     l_q8 += margin_q8;
     out->lag_paced = 20 * tune.sensor_lag_q8 <= tune.model.time_constant_q8;
   }
-  // Lag above C/20 (20·lag < 2^26): two lags, provided D (after the margins) stays ≤ C/2, below.
+  // Lag above C/20 (20·lag < 2^26): two lags, provided D (after the margins) stays below C/2.
   out->two_lags = tune.sensor_lag_q8 > 0 && !out->lag_paced;
   // An unsure model (the probe's response outlasted the model history: seed000's higher-order
   // hotends) of no lag-type hotend: its D is short of the response's, and a D too short
   // overshoots; the more so the longer L is against C. Margin L·max(3/8, 7.5·L/C), at most L.
   // State feedback after U1 (simavr): seed000-5 (L/C ≈ 0.05: 3/8) D 73.9 → 101.6: 2.98 → 0.24 °C;
-  // seed000-4 (L/C ≈ 0.086: 0.65) on the host rig over 4 noise seeds 5.9–8.0 → 0.3–1.9 °C, where
+  // seed000-4 (L/C ≈ 0.086: 0.65) on the host rig over 4 noise seeds 5.9–8.0 → 0.0–1.4 °C, where
   // 3/8 gave 5.9–8.0 and ×1.5 / ×1.75 2.9–4.9 / 0 °C with 1.0–1.4 °C p-p
   // (docs/autotune.md, "Unsure models"). heavy-slow (a lag) was slower with it: not there.
   // L < 2^18 (Q8), so 15·L < 2^22 and the quotient L·15·L/(2·C) < 2^31 (C ≥ 1 s).
@@ -60,9 +63,10 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
     l_q8 += margin_q8;
   }
   if (l_q8 < kMinDesignDeadTimeQ8) l_q8 = kMinDesignDeadTimeQ8;
-  if (l_q8 > kModelMaxDeadTimeQ8) return false;
+  if (l_q8 > kModelMaxDeadTimeQ8) l_q8 = kModelMaxDeadTimeQ8;
   out->model.dead_time_q8 = l_q8;  // the feedforward's heat-up must respect the same delay
-  if (2 * l_q8 > tune.model.time_constant_q8) out->two_lags = false;  // l_q8 ≤ 600 s × 256: fits
+  // D < C/2 strictly: at 2·D = C dead_time_leads already hands U1 to the PID.
+  if (2 * l_q8 >= tune.model.time_constant_q8) out->two_lags = false;  // l_q8 ≤ 600 s × 256: fits
   const uint32_t l = static_cast<uint32_t>(l_q8);
 
   // Kp = 255·T/(K·3L) in M301 units. ratio = 255·256·T/L ≤ 65,280·921,600/128 < 2^32 (T ≤ 3600 s,

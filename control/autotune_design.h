@@ -26,7 +26,7 @@ struct TunedDesign {
   // faster than D (design_state_feedback_fopdt's dead_time_paced). hotend80w's full-power rise
   // of 44 s gave T_cl 2.8 s against D 4.7: 1.30 °C of overshoot; paced 0.45 °C, 1.04 × bound.
   bool lag_paced;
-  // A lag-dominated hotend (the tune saw a thermistor lag above C/20, and D ≤ C/2): the state
+  // A lag-dominated hotend (the tune saw a thermistor lag above C/20, and D < C/2): the state
   // feedback is the two-state design of two lags τ1 = C, τ2 = D (design_state_feedback_two_lags).
   // Host rig after U1, noise seeds 12345, 1–3: seed003 2.06–2.13 → 0.86–0.89 × bound, heavy-slow
   // 1.68–1.70 → 0.98–1.01 × (docs/autotune.md, "Design"). Not on the two-node hotends (lag

@@ -147,6 +147,12 @@ TEST(AutotuneDesign, UnsureMarginGrowsWithDeadTimeOverTimeConstant) {
   ASSERT_TRUE(control::design_from_tune(r, 128, &d));
   EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 200, 0.01);
   EXPECT_TRUE(control::dead_time_leads(r, d));  // its identified D ≥ C/8: as for a sure model
+  // A margin past M307's 600 s stops there: the identified model is in range, so the tune
+  // designs (it once failed, printing that in-range model as the reason).
+  r = tune_of(450, 2000, 320, 0);  // margin capped at L: 640 s
+  r.unsure = true;
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_EQ(d.model.dead_time_q8, control::kModelMaxDeadTimeQ8);
 }
 
 // Which tunes get the two-lag state feedback: a thermistor lag above C/20 (seed003, heavy-slow),
@@ -186,6 +192,14 @@ TEST(AutotuneDesign, TwoLagsOnlyForALagAboveATwentiethOfC) {
   EXPECT_FALSE(d.two_lags);
   ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
   EXPECT_EQ(k.n, 1);
+  // At exactly 2·D = C U1 picks the PID (dead_time_leads), so no two-lag law is designed for it:
+  // lag 10 s on C 100 s lifts D 40 → 50 s.
+  r = tune_of(450, 100, 40, 0);
+  r.sensor_lag_q8 = 10 * 256;
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  ASSERT_EQ(2 * d.model.dead_time_q8, d.model.time_constant_q8);
+  EXPECT_FALSE(d.two_lags);
+  EXPECT_TRUE(control::dead_time_leads(r, d));
 }
 
 TEST(AutotuneDesign, RefusesModelsOutsideM307sRange) {

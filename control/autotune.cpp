@@ -151,7 +151,7 @@ void Autotune::configure(uint16_t period_ms, uint16_t timeout_s) {
   t40_ = static_cast<uint16_t>(ticks_from_s(40));
   t60_ = static_cast<uint16_t>(ticks_from_s(60));
   t90_ = static_cast<uint16_t>(ticks_from_s(90));
-  t600_ = static_cast<uint16_t>(ticks_from_s(600));  // ≤ 60,000 at 10 ms
+  t600_ = static_cast<uint16_t>(clamp_half_ticks(ticks_from_s(600)));
   // ticks → s × 256 = ticks · period_ms · 256/1000, as a whole + Q16 multiplier (period·256
   // ≤ 512,000; the remainder < 1000, × 2^16 < 2^26).
   const uint32_t ms256 = uint32_t{period_ms_} * 256u;
@@ -163,6 +163,10 @@ void Autotune::configure(uint16_t period_ms, uint16_t timeout_s) {
 
 // s → ticks: s ≤ 65535, ·1000 < 2^26.
 uint32_t Autotune::ticks_from_s(uint16_t s) const { return uint32_t{s} * 1000u / period_ms_; }
+
+// A relay half-cycle's limit: at most 2^15 − 1 ticks, so that a whole cycle (two halves) fits the
+// 16-bit period_ticks_ and its sums (the firmware's 128 ms: 70 min, past any tune's time limit).
+uint32_t Autotune::clamp_half_ticks(uint32_t ticks) { return ticks > 0x7FFFu ? 0x7FFFu : ticks; }
 
 // ticks → s × 256: ticks < 2^16, whole ≤ 512: products < 2^25.
 int32_t Autotune::seconds_q8(uint16_t ticks) const {
@@ -654,7 +658,7 @@ void Autotune::extend_timeout() {
   // Likewise a relay half-cycle may last 12 L̂ before the relay counts as stuck (600 s at least:
   // seed000-4's fan half-cycle outlasted 600 s, and 8 L̂ = 975 s once its L̂ was 122 s).
   const uint32_t half = 12u * l_ticks;
-  if (half > t600_) t600_ = static_cast<uint16_t>(half > 65000u ? 65000u : half);
+  if (half > t600_) t600_ = static_cast<uint16_t>(clamp_half_ticks(half));
 }
 
 // Approach: closed-loop time constant = the horizon (≥ 3 bins); P gain 1/(S·τ). One division:
@@ -947,7 +951,7 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
   ++half_ticks_;
   if (half_ticks_ == 1) last_nudge_ = 0;
   cyc_sum_dev_ += y - target_q8_;  // |y − target| ≤ 25 °C·256 per tick (else too hot / failed)
-  cyc_sum_duty_ += duty_q16_;      // ≤ 65535 per tick; ≤ 65,000 ticks per cycle
+  cyc_sum_duty_ += duty_q16_;      // ≤ 65535 per tick; < 2^16 ticks per cycle (two halves)
   if (half_ticks_ > t600_) {
     fail(AutotuneFailure::kNoOscillation);
     return false;

@@ -172,6 +172,7 @@ class Autotune {
   bool compute_chunk();      // one piece of the final arithmetic; true when done
   int32_t seconds_q8(uint16_t ticks) const;
   uint32_t ticks_from_s(uint16_t s) const;
+  static uint32_t clamp_half_ticks(uint32_t ticks);
   int32_t model_ago(uint8_t bins) const;
   int32_t slope4_q8() const;
   void push_bin(int16_t model_entry);

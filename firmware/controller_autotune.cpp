@@ -53,7 +53,7 @@ __attribute__((noinline)) void write_design(gcode::Output& out, const control::A
 }
 
 // The board's state-feedback design in one line (nullptr: it failed); for the two-lag law its
-// lags (the model it designed from is not the M307 line's FOPDT reading of them).
+// lags: the applied M307's C and D, which that law reads as two lags, not a lag and a dead time.
 __attribute__((noinline)) void write_sf_summary(gcode::Output& out, const control::StateFeedbackConstants* sf,
                                                 const control::TunedDesign& d) {
   if (sf == nullptr) {

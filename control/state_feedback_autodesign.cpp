@@ -359,9 +359,9 @@ __attribute__((noinline, noclone)) bool design_two_lags(const HotendModel& model
                                                         StateFeedbackConstants& k, Calc& c) {
   if (!hotend_model_valid(model) || period_ms == 0 || period_ms > 1000) return false;
   // Two distinct lags, the second at most half the first (well apart: Φ's eigenvalues distinct,
-  // and no cancellation beyond a few bits in α − qβ). D ≥ 1 s × 256 / 256.
+  // and no cancellation beyond a few bits in α − qβ). D > 0 (Q8: at least 1/256 s).
   if (model.dead_time_q8 <= 0 || 2 * model.dead_time_q8 > model.time_constant_q8) return false;
-  const uint32_t h32 = 2u * period_ms * 32u;  // the law period (D = 0: decimation 2), 1/32 ms
+  const uint32_t h32 = uint32_t{2} * period_ms * 32u;  // the law period (D = 0: decimation 2), 1/32 ms
   int8_t p = 0;
   while (p < 10 && (kSqrt2Q16x10 << p) < static_cast<uint32_t>(model.rise_q8) * 2560u) ++p;
   k.n = 2;

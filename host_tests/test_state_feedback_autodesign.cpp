@@ -8,17 +8,23 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "control/state_feedback.h"
 #include "control/state_feedback_autodesign.h"
 #include "design/plant_sim.h"
 #include "design/state_feedback_quantize.h"
+#include "host_tests/autodesign_compare.h"
 
 namespace {
 
 using control::HotendModel;
 using control::StateFeedbackConstants;
+using autodesign_compare::closed_loop;
+using autodesign_compare::Field;
+using autodesign_compare::fields;
+using autodesign_compare::value;
 
 struct Fopdt {
   double k, t, l, f;  // °C per unit duty, s, s, % of the no-fan loss
@@ -49,35 +55,8 @@ std::vector<Fopdt> grid() {
   return out;
 }
 
-// One row of the constants: name, value of board and host (mantissa / 2^shift), mantissas.
-struct Field {
-  const char* name;
-  int16_t mb, mh;
-  uint8_t sb, sh;
-};
-
-std::vector<Field> fields(const StateFeedbackConstants& b, const StateFeedbackConstants& h) {
-  std::vector<Field> f = {
-      {"phi_diag", b.phi_diag[0], h.phi_diag[0], b.phi_shift[0], h.phi_shift[0]},
-      {"gamma_a", b.gamma_a[0], h.gamma_a[0], b.phi_shift[0], h.phi_shift[0]},
-      {"gamma_b", b.gamma_b[0], h.gamma_b[0], b.phi_shift[0], h.phi_shift[0]},
-      {"obs_gain[0]", b.obs_gain[0], h.obs_gain[0], b.obs_shift[0], h.obs_shift[0]},
-      {"obs_gain[1]", b.obs_gain[1], h.obs_gain[1], b.obs_shift[1], h.obs_shift[1]},
-      {"fb_gain", b.fb_gain[0], h.fb_gain[0], b.ctrl_shift, h.ctrl_shift},
-      {"ff_gain", b.ff_gain, h.ff_gain, b.ctrl_shift, h.ctrl_shift},
-      {"bias_gain", b.bias_gain, h.bias_gain, b.ctrl_shift, h.ctrl_shift},
-      {"fan_gain", b.fan_gain, h.fan_gain, b.fan_shift, h.fan_shift},
-      {"ss_share", b.ss_share[0], h.ss_share[0], b.ss_share_shift, h.ss_share_shift},
-      {"inv_gain", b.inv_gain, h.inv_gain, b.inv_gain_shift, h.inv_gain_shift},
-  };
-  for (int j = 0; j < b.delay; ++j) f.push_back(Field{"fir[j]", b.fir[j], h.fir[j], b.fir_shift, h.fir_shift});
-  return f;
-}
-
-double value(int16_t m, uint8_t s) { return std::ldexp(static_cast<double>(m), -s); }
-
 struct Worst {
-  const char* name;
+  std::string name;
   double rel = 0;  // |board − host| / |host| (values)
   int lsb = 0;     // |mantissa difference| (same shift)
   Fopdt at{};
@@ -111,7 +90,7 @@ TEST(StateFeedbackAutodesign, MatchesTheHostDesignFieldByField) {
     EXPECT_EQ(board.phi_col[0], 0);
     for (const Field& f : fields(board, host)) {
       SCOPED_TRACE(f.name);
-      auto it = std::find_if(worst.begin(), worst.end(), [&](const Worst& w) { return !std::strcmp(w.name, f.name); });
+      auto it = std::find_if(worst.begin(), worst.end(), [&](const Worst& w) { return w.name == f.name; });
       if (it == worst.end()) {
         worst.push_back(Worst{f.name});
         it = worst.end() - 1;
@@ -135,7 +114,7 @@ TEST(StateFeedbackAutodesign, MatchesTheHostDesignFieldByField) {
   std::printf("on-board vs host design, %zu FOPDT models: worst difference per field\n", grid().size());
   std::printf("  %-12s %12s %6s   at (K, T, L, F)\n", "field", "relative", "LSB");
   for (const Worst& w : worst)
-    std::printf("  %-12s %12.2e %6d   (%g, %g, %g, %g)\n", w.name, w.rel, w.lsb, w.at.k, w.at.t, w.at.l, w.at.f);
+    std::printf("  %-12s %12.2e %6d   (%g, %g, %g, %g)\n", w.name.c_str(), w.rel, w.lsb, w.at.k, w.at.t, w.at.l, w.at.f);
   std::printf("  rows quantised at a different shift: %d\n", shift_mismatches);
   EXPECT_EQ(shift_mismatches, 0);
 }
@@ -176,26 +155,6 @@ TEST(StateFeedbackAutodesign, PacedByTheDeadTimeMatchesTheHostDesignWithThatSpee
     }
   }
   EXPECT_GT(paced, 10);  // the rule did slow many of the grid's loops
-}
-
-// Heat-up 25 → 210 °C, then the part fan to 100 %: the true temperature every 128 ms. Sensor
-// noise σ 0.05 °C, the same sequence for both constant sets (same seed, same calls).
-std::vector<double> closed_loop(const design::LtiModel& plant, const StateFeedbackConstants& k, double fan_at_s,
-                                double end_s) {
-  control::StateFeedback sf;
-  EXPECT_TRUE(sf.configure(k));
-  design::PlantSim sim(plant);
-  sim.set_noise(0.05);
-  std::vector<double> trace;
-  for (double t = 0; t < end_s; t += 0.128) {
-    const bool fan = t >= fan_at_s;
-    sim.set_fan(fan ? 1.0 : 0.0);
-    const control::StepInput in{210 * 256, static_cast<int32_t>(std::lround(sim.measured_c() * 256)),
-                                static_cast<uint8_t>(fan ? 255 : 0)};
-    sim.run(sf.step(in) / 65535.0, 0.128);
-    trace.push_back(sim.true_c());
-  }
-  return trace;
 }
 
 TEST(StateFeedbackAutodesign, ClosedLoopFollowsTheHostDesignWithinTwoTenthsOfAKelvin) {

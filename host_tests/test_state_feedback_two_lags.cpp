@@ -14,11 +14,16 @@
 #include "control/state_feedback_autodesign.h"
 #include "design/plant_sim.h"
 #include "design/state_feedback_quantize.h"
+#include "host_tests/autodesign_compare.h"
 
 namespace {
 
 using control::HotendModel;
 using control::StateFeedbackConstants;
+using autodesign_compare::closed_loop;
+using autodesign_compare::Field;
+using autodesign_compare::fields;
+using autodesign_compare::value;
 
 struct TwoLags {
   double k, t1, t2, f;  // °C per unit duty, s, s, % of the no-fan loss
@@ -62,34 +67,6 @@ std::vector<TwoLags> grid() {
   return out;
 }
 
-struct Field {
-  std::string name;
-  int16_t mb, mh;
-  uint8_t sb, sh;
-};
-
-std::vector<Field> fields(const StateFeedbackConstants& b, const StateFeedbackConstants& h) {
-  std::vector<Field> f;
-  for (int i = 0; i < 2; ++i) {
-    const std::string n = "[" + std::to_string(i) + "]";
-    f.push_back({"phi_diag" + n, b.phi_diag[i], h.phi_diag[i], b.phi_shift[i], h.phi_shift[i]});
-    f.push_back({"phi_off" + n, b.phi_off[i], h.phi_off[i], b.phi_shift[i], h.phi_shift[i]});
-    f.push_back({"gamma_a" + n, b.gamma_a[i], h.gamma_a[i], b.phi_shift[i], h.phi_shift[i]});
-    f.push_back({"gamma_b" + n, b.gamma_b[i], h.gamma_b[i], b.phi_shift[i], h.phi_shift[i]});
-    f.push_back({"fb_gain" + n, b.fb_gain[i], h.fb_gain[i], b.ctrl_shift, h.ctrl_shift});
-    f.push_back({"ss_share" + n, b.ss_share[i], h.ss_share[i], b.ss_share_shift, h.ss_share_shift});
-  }
-  for (int i = 0; i < 3; ++i)
-    f.push_back({"obs_gain[" + std::to_string(i) + "]", b.obs_gain[i], h.obs_gain[i], b.obs_shift[i], h.obs_shift[i]});
-  f.push_back({"ff_gain", b.ff_gain, h.ff_gain, b.ctrl_shift, h.ctrl_shift});
-  f.push_back({"bias_gain", b.bias_gain, h.bias_gain, b.ctrl_shift, h.ctrl_shift});
-  f.push_back({"fan_gain", b.fan_gain, h.fan_gain, b.fan_shift, h.fan_shift});
-  f.push_back({"inv_gain", b.inv_gain, h.inv_gain, b.inv_gain_shift, h.inv_gain_shift});
-  return f;
-}
-
-double value(int16_t m, uint8_t s) { return std::ldexp(static_cast<double>(m), -s); }
-
 TEST(StateFeedbackTwoLags, MatchesTheHostDesignFieldByField) {
   double worst_rel = 0;
   int worst_lsb = 0, shift_mismatches = 0;
@@ -131,25 +108,6 @@ TEST(StateFeedbackTwoLags, MatchesTheHostDesignFieldByField) {
   std::printf("two-lag design, on-board vs host, %zu models: worst relative %.2e (%s), worst %d LSB (%s), "
               "rows at a different shift %d\n",
               grid().size(), worst_rel, worst_rel_field.c_str(), worst_lsb, worst_lsb_field.c_str(), shift_mismatches);
-}
-
-// Heat-up 25 → 210 °C, then the part fan to 100 %, on the exact two-lag plant (σ 0.05 °C).
-std::vector<double> closed_loop(const design::LtiModel& plant, const StateFeedbackConstants& k, double fan_at_s,
-                                double end_s) {
-  control::StateFeedback sf;
-  EXPECT_TRUE(sf.configure(k));
-  design::PlantSim sim(plant);
-  sim.set_noise(0.05);
-  std::vector<double> trace;
-  for (double t = 0; t < end_s; t += 0.128) {
-    const bool fan = t >= fan_at_s;
-    sim.set_fan(fan ? 1.0 : 0.0);
-    const control::StepInput in{210 * 256, static_cast<int32_t>(std::lround(sim.measured_c() * 256)),
-                                static_cast<uint8_t>(fan ? 255 : 0)};
-    sim.run(sf.step(in) / 65535.0, 0.128);
-    trace.push_back(sim.true_c());
-  }
-  return trace;
 }
 
 TEST(StateFeedbackTwoLags, ClosedLoopFollowsTheHostDesignWithinTwoTenthsOfAKelvin) {

@@ -13,10 +13,22 @@ namespace {
 constexpr double kSimavrLikeNoiseC = 0.02;
 const unsigned long long kSeeds[] = {12345ULL, 1ULL, 2ULL, 3ULL};
 
-after_u1::Plant seed000(const char* name) {
+// One seed000 plant's tune, U1 and heat-up on one noise seed, printed as a table row.
+struct Seed000Run {
+  control::AutotuneResult tune{};
+  bool statefb = false;
+  after_u1::Figures figures;
+};
+
+Seed000Run tune_and_heat(const char* name, unsigned long long seed) {
+  Seed000Run out;
   for (const after_u1::Plant& p : after_u1::seed000_plants())
-    if (p.name == name) return p;
-  return {};
+    if (p.name == name) out.figures = after_u1::after_u1(p, seed, kSimavrLikeNoiseC, &out.tune, &out.statefb);
+  const after_u1::Figures& f = out.figures;
+  std::printf("%s seed %llu: C %.1f D %.1f U1 %s os %.2f set %.2fx pp %.3f dip %.2f\n", name, seed,
+              out.tune.model.time_constant_q8 / 256.0, out.tune.model.dead_time_q8 / 256.0,
+              out.statefb ? "statefb" : "pid+ff", f.overshoot_c, f.settling_ratio, f.steady_pp_c, f.dip_c);
+  return out;
 }
 
 // seed000-4 (two-point fit A 450 C 582 D 163; tuned C 965–1037, D 70–75, Tu/4 85–89): with the
@@ -26,16 +38,11 @@ after_u1::Plant seed000(const char* name) {
 // seed 1 reads the fan loss F 60 against 43 and does not come back within ±1 °C after the fan
 // step: the tune's, not the design's, so the recovery is not asserted here.
 TEST(AutotuneAfterU1Unsure, Seed000_4OvershootsAtMost2C) {
-  const after_u1::Plant p = seed000("seed000-4");
   for (unsigned long long seed : kSeeds) {
-    control::AutotuneResult r{};
-    bool sf = false;
-    const after_u1::Figures f = after_u1::after_u1(p, seed, kSimavrLikeNoiseC, &r, &sf);
-    std::printf("seed000-4 seed %llu: C %.1f D %.1f U1 %s os %.2f set %.2fx pp %.3f dip %.2f\n", seed,
-                r.model.time_constant_q8 / 256.0, r.model.dead_time_q8 / 256.0, sf ? "statefb" : "pid+ff",
-                f.overshoot_c, f.settling_ratio, f.steady_pp_c, f.dip_c);
-    EXPECT_TRUE(r.unsure) << "seed " << seed;
-    EXPECT_TRUE(sf) << "seed " << seed;
+    const Seed000Run r = tune_and_heat("seed000-4", seed);
+    const after_u1::Figures& f = r.figures;
+    EXPECT_TRUE(r.tune.unsure) << "seed " << seed;
+    EXPECT_TRUE(r.statefb) << "seed " << seed;
     EXPECT_LE(f.overshoot_c, 2.0) << "seed " << seed;
     EXPECT_LE(f.steady_pp_c, 1.0) << "seed " << seed;
     EXPECT_LE(f.settling_ratio, 2.0) << "seed " << seed;
@@ -45,16 +52,11 @@ TEST(AutotuneAfterU1Unsure, Seed000_4OvershootsAtMost2C) {
 // seed000-5 (registered in HIL7) keeps the 3/8 margin (L/C ≈ 0.05): overshoot 0.00–0.73 °C,
 // p-p 0.31–0.47 °C, settling 1.83–1.91 × bound; HIL7's limits, and that settling, must hold.
 TEST(AutotuneAfterU1Unsure, Seed000_5StaysWithinHil7) {
-  const after_u1::Plant p = seed000("seed000-5");
   for (unsigned long long seed : kSeeds) {
-    control::AutotuneResult r{};
-    bool sf = false;
-    const after_u1::Figures f = after_u1::after_u1(p, seed, kSimavrLikeNoiseC, &r, &sf);
-    std::printf("seed000-5 seed %llu: C %.1f D %.1f U1 %s os %.2f set %.2fx pp %.3f dip %.2f\n", seed,
-                r.model.time_constant_q8 / 256.0, r.model.dead_time_q8 / 256.0, sf ? "statefb" : "pid+ff",
-                f.overshoot_c, f.settling_ratio, f.steady_pp_c, f.dip_c);
+    const Seed000Run r = tune_and_heat("seed000-5", seed);
+    const after_u1::Figures& f = r.figures;
     EXPECT_TRUE(f.ok) << "seed " << seed;
-    EXPECT_TRUE(sf) << "seed " << seed;
+    EXPECT_TRUE(r.statefb) << "seed " << seed;
     EXPECT_LE(f.overshoot_c, 1.0) << "seed " << seed;
     EXPECT_LE(f.steady_pp_c, 0.5) << "seed " << seed;
     EXPECT_LE(f.settling_ratio, 2.0) << "seed " << seed;

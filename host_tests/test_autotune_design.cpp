@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "control/autotune_design.h"
+#include "control/state_feedback_autodesign.h"
 #include "control/pid.h"
 #include "design/lti_model.h"
 #include "design/plant_sim.h"
@@ -200,6 +201,19 @@ TEST(AutotuneDesign, TwoLagsOnlyForALagAboveATwentiethOfC) {
   ASSERT_EQ(2 * d.model.dead_time_q8, d.model.time_constant_q8);
   EXPECT_FALSE(d.two_lags);
   EXPECT_TRUE(control::dead_time_leads(r, d));
+}
+
+// A two-lag law the board refuses (here D > C/2) falls back to the FOPDT's, and the flag then says
+// so: U1's summary and choice text read it.
+TEST(AutotuneDesign, RefusedTwoLagLawFallsBackToTheFopdtDesign) {
+  control::TunedDesign d{};
+  d.model = control::HotendModel{450 * 256, 100 * 256, 60 * 256, 43 * 256};
+  d.two_lags = true;
+  control::StateFeedbackConstants k;
+  ASSERT_FALSE(control::design_state_feedback_two_lags(d.model, 128, &k));
+  ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
+  EXPECT_EQ(k.n, 1);
+  EXPECT_FALSE(d.two_lags);
 }
 
 TEST(AutotuneDesign, RefusesModelsOutsideM307sRange) {

@@ -74,6 +74,14 @@ constexpr uint8_t kSlots = static_cast<uint8_t>(kLagSlots) > static_cast<uint8_t
 
 enum Op : uint8_t { kAdd, kSub, kMul, kDiv, kMin, kLdexp, kExpNeg, kOneMinusExpNeg, kLn };
 
+// Input scale: 2^p ≈ K (the host: p < 10 while 2^p·1.41421356 < K); exact for Q8 K
+// (rise_q8 ≤ 2000 × 256, × 2560 < 2^31).
+int8_t input_shift(int32_t rise_q8) {
+  int8_t p = 0;
+  while (p < 10 && (kSqrt2Q16x10 << p) < static_cast<uint32_t>(rise_q8) * 2560u) ++p;
+  return p;
+}
+
 class Calc {
  public:
   Calc() {
@@ -147,6 +155,16 @@ class Calc {
     return static_cast<int16_t>(fixed_math::round_scaled(r_[a], shift));
   }
 
+  // Both designs' fan gain: (F/100)/K per kelvin · 2^(16+p)/(255·256), per °C Q8 × fan:
+  // F_q8·2^(16+p)/(K_q8·6,528,000). t0, t1: scratch slots.
+  void fan_gain(uint8_t d, uint8_t t0, uint8_t t1, const HotendModel& model, int8_t p) {
+    set(d, model.fan_loss_pct_q8, static_cast<int16_t>(16 + p));
+    set(t0, model.rise_q8);
+    set(t1, 6528000);
+    mul(t0, t0, t1);
+    div(d, d, t0);
+  }
+
  private:
   Scaled r_[kSlots] = {};
 };
@@ -180,9 +198,7 @@ __attribute__((noinline, noclone)) bool design(const HotendModel& model, uint16_
   const uint32_t frac32 = delay * h32 - dead32;  // f, in [0, h)
   const bool frac = frac32 != 0;
 
-  // Input scale: 2^p ≈ K (the host: p < 10 while 2^p·1.41421356 < K); exact for Q8 K.
-  int8_t p = 0;
-  while (p < 10 && (kSqrt2Q16x10 << p) < static_cast<uint32_t>(model.rise_q8) * 2560u) ++p;
+  const int8_t p = input_shift(model.rise_q8);
 
   k.n = 1;
   k.output_mask = 1;
@@ -328,12 +344,7 @@ __attribute__((noinline, noclone)) bool design(const HotendModel& model, uint16_
   c.ldexp(kT0, kT0, p);
   k.ff_gain = c.mantissa(kT0, k.ctrl_shift);
 
-  // Fan: (F/100)/K per kelvin · 2^(16+p)/(255·256), per °C Q8 × fan: F_q8·2^(16+p)/(K_q8·6,528,000).
-  c.set(kFan, model.fan_loss_pct_q8, static_cast<int16_t>(16 + p));
-  c.set(kT0, model.rise_q8);
-  c.set(kT1, 6528000);
-  c.mul(kT0, kT0, kT1);
-  c.div(kFan, kFan, kT0);
+  c.fan_gain(kFan, kT0, kT1, model, p);
   // Steady state per kelvin of rise (one state: exactly 1) and 2^p / DC gain.
   c.set(kInv, 1, p);
   c.div(kInv, kInv, kGainQ);
@@ -362,8 +373,7 @@ __attribute__((noinline, noclone)) bool design_two_lags(const HotendModel& model
   // and no cancellation beyond a few bits in α − qβ). D > 0 (Q8: at least 1/256 s).
   if (model.dead_time_q8 <= 0 || 2 * model.dead_time_q8 > model.time_constant_q8) return false;
   const uint32_t h32 = uint32_t{2} * period_ms * 32u;  // the law period (D = 0: decimation 2), 1/32 ms
-  int8_t p = 0;
-  while (p < 10 && (kSqrt2Q16x10 << p) < static_cast<uint32_t>(model.rise_q8) * 2560u) ++p;
+  const int8_t p = input_shift(model.rise_q8);
   k.n = 2;
   k.output_mask = 2;  // y = x2, the thermistor
   k.delay = 0;
@@ -535,11 +545,7 @@ __attribute__((noinline, noclone)) bool design_two_lags(const HotendModel& model
     return false;
 
   // Fan (as the FOPDT's), steady state per kelvin [g1/g2, 1], 2^p / DC gain.
-  c.set(kLagFan, model.fan_loss_pct_q8, static_cast<int16_t>(16 + p));
-  c.set(kU0, model.rise_q8);
-  c.set(kU1, 6528000);
-  c.mul(kU0, kU0, kU1);
-  c.div(kLagFan, kLagFan, kU0);
+  c.fan_gain(kLagFan, kU0, kU1, model, p);
   c.div(kLagShare0, kLagG1, kLagGainQ);
   c.copy(kLagShare1, kOne);
   c.set(kLagInv, 1, p);

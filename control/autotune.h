@@ -130,7 +130,7 @@ class Autotune {
   const AutotuneResult& result() const { return result_; }
 
   // For tests and diagnostics.
-  enum class Phase : uint8_t { kIdle, kCool, kBaseline, kProbe, kApproach, kRelay, kCompute, kDone };
+  enum class Phase : uint8_t { kIdle, kCool, kBaseline, kProbe, kApproach, kRelay, kCompute, kDone, kFan };
   Phase phase() const { return phase_; }
   uint32_t elapsed_ticks() const { return tick_; }
   int32_t slope_q8() const { return slope_q8_; }          // S: °C×256 per bin at full duty
@@ -156,6 +156,9 @@ class Autotune {
   uint8_t begin_stage(uint8_t stage);
   uint8_t approach_stage(uint8_t stage);
   uint8_t relay_stage(uint8_t stage);
+  void fan_stage();
+  uint16_t fan_wait_bins() const;
+  uint16_t fan_span_bins() const;
   void model_bin();
   void model_anchor();
   void start_probe();
@@ -304,8 +307,6 @@ class Autotune {
     uint8_t fill_on;         // the last fill_on bins were at full power
     uint16_t fill_a_q16;     // 1/T the history runs with
     uint8_t fill_head;       // ring_head_ when the approach began
-    uint8_t hold_bins;       // bins into the fan hold + 1 (0: not holding)
-    uint8_t hold_len;        // its length in bins
     uint8_t crossings;
     uint8_t steady_bins;     // bins the duty has stayed near steady_ref
     int16_t steady_ref;
@@ -326,7 +327,6 @@ class Autotune {
   int32_t cyc_a_q8_ = 0;         // ... its half amplitude
   uint32_t cyc_duty_done_ = 0;   // ... its Σ duty
   uint8_t cycle_index_ = 0;     // completed relay cycles (the settling one included)
-  bool fan_pending_ = false;     // the fan is on: the approach ends in the fan hold
   uint8_t nofan_measure_ = 0;
   uint16_t inv_t_nofan_q16_ = 0;  // 1/T before the fan came on
   bool started_cycle_ = false;

@@ -1084,7 +1084,6 @@ void Autotune::fan_stage() {
   if (bins_ < wait) return;
   if (bins_ == wait) pending_q8_ = y_bin_q8_;
   sum_dev_[1] += y_bin_q8_ - target_q8_;
-  sum_duty_[1] += duty_q16_ >> 4;
   ++sum_ticks_[1];
   if (bins_ < wait + fan_span_bins()) return;
   pending_q8_ = y_bin_q8_ - pending_q8_;  // Δ over the span (compute)
@@ -1147,7 +1146,14 @@ bool Autotune::compute_chunk() {
     } else if (sub == 4) {
       // duty_q16 >> 4; the fan step's is the duty that would hold its mean rise with the fan:
       // ū_F = u − ẏ/S (near a steady state ẏ = S·(u − ū_F): K·u = (1 + F)·rise + T·ẏ, S = K/T).
-      v.duty = static_cast<int32_t>(sum_duty_[part] / static_cast<uint32_t>(n)) + (part == 0 ? 0 : div2n(v.a_hi, 4));
+      if (part == 0) {
+        v.duty = static_cast<int32_t>(sum_duty_[0] / static_cast<uint32_t>(n));
+      } else {
+        // The held duty is the last relay cycle's mean (bias_q16_), and that cycle's mean rise
+        // over it is the gain the fall is read against (a periodic cycle: K·ū = its mean rise).
+        v.duty = (bias_q16_ >> 4) + div2n(v.a_hi, 4);
+        v.a_lo = rise_target + (last_ticks_ > 0 ? last_dev_ / last_ticks_ : 0);
+      }
     } else {
       // mean rise < 2^17 (≤ 300 °C above ambient), × 2^12 < 2^29.
       const int32_t g = v.duty > 0 && v.mean_q8 > 0
@@ -1241,7 +1247,7 @@ bool Autotune::compute_chunk() {
       int32_t f_q8 = 0;
       if (measure_fan_ && sum_ticks_[1] > 0 && v.mean_q8 > 0) {
         const int32_t held = fixed::mul_q16(v.mean_q8, bias_q16_);
-        const uint32_t r = held > 0 ? (static_cast<uint32_t>(rise_target) << 12) / static_cast<uint32_t>(held) : 0;
+        const uint32_t r = held > 0 && v.a_lo > 0 ? (static_cast<uint32_t>(v.a_lo) << 12) / static_cast<uint32_t>(held) : 0;
         f_q8 = static_cast<int32_t>(((r > 65535 ? 65535 : r) * 25600u + 2048u) >> 12) - 25600;
       }
       m.fan_loss_pct_q8 = f_q8 < 0 ? 0 : f_q8;

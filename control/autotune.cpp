@@ -67,6 +67,7 @@ constexpr uint16_t kMaxDutyStepQ16 = 16384;     // d ≤ 25 %
 constexpr uint16_t kFull = 65535;
 constexpr uint8_t kCycleSteps = 13;  // compute steps per stored relay cycle
 constexpr uint8_t kFanSteps = 5;     // compute steps of the gain with the fan
+constexpr int32_t kFanFallQ8 = 8 * kQ8;  // the fan step's window may end once the reading fell this far
 
 // The small helpers below are noinline: with LTO every use was inlined (32-bit shifts and
 // compares), 660 bytes of flash in all (div2n alone 496) for a call's few cycles.
@@ -1085,8 +1086,12 @@ void Autotune::fan_stage() {
   if (bins_ == wait) pending_q8_ = y_bin_q8_;
   sum_dev_[1] += y_bin_q8_ - target_q8_;
   ++sum_ticks_[1];
-  if (bins_ < wait + fan_span_bins()) return;
-  pending_q8_ = y_bin_q8_ - pending_q8_;  // Δ over the span (compute)
+  // The window ends early once the reading has fallen kFanFallQ8 past its first bin (a fast
+  // hotend's slope is plain by then, and the dip stays small): its span is then the bins so far.
+  const int32_t fall = pending_q8_ - y_bin_q8_;
+  if (bins_ < wait + fan_span_bins() && (fall < kFanFallQ8 || bins_ < wait + 4)) return;
+  fan_span_ = static_cast<uint16_t>(bins_ - wait);
+  pending_q8_ = -fall;  // Δ over the span (compute)
   fan_ = 0;
   duty_q16_ = 0;
   compute_step_ = 0;
@@ -1137,8 +1142,9 @@ bool Autotune::compute_chunk() {
     } else if (sub == 2) {
       // The fan step's fall ẏ as duty: ẏ/S (duty_q16) = |Δ| · 2^16 / (span · S): |Δ| < 2^16
       // (capped), × 2^16 < 2^32; span < 2^10 bins × S < 2^15 < 2^25; the result capped at 2^17.
-      const uint32_t c = capped_ratio_q16(static_cast<uint32_t>(abs32(pending_q8_)), 65535,
-                                          uint32_t{fan_span_bins()} * static_cast<uint32_t>(slope_q8_));
+      // (No fan step, F0: span 0, nothing to divide.)
+      const uint32_t den = uint32_t{fan_span_} * static_cast<uint32_t>(slope_q8_);
+      const uint32_t c = den > 0 ? capped_ratio_q16(static_cast<uint32_t>(abs32(pending_q8_)), 65535, den) : 0;
       v.a_hi = fixed::mul_q16(static_cast<int32_t>(c > 131072 ? 131072 : c), static_cast<uint16_t>(v.a_lo));
       if (pending_q8_ > 0) v.a_hi = -v.a_hi;
     } else if (sub == 3) {

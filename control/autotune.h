@@ -329,6 +329,7 @@ class Autotune {
   uint8_t cycle_index_ = 0;     // completed relay cycles (the settling one included)
   uint8_t nofan_measure_ = 0;
   uint16_t inv_t_nofan_q16_ = 0;  // 1/T before the fan came on
+  uint16_t fan_span_ = 0;         // the fan step's window: bins from its first to its last
   bool started_cycle_ = false;
   int32_t sum_dev_[2] = {};     // Σ (y − target) per tick over measured cycles, [0] no fan, [1] fan
   uint32_t sum_duty_[2] = {};   // Σ duty q16 >> 4 per tick

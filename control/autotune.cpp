@@ -1132,21 +1132,18 @@ bool Autotune::compute_chunk() {
     } else if (sub == 1) {
       v.a_lo = (last_ticks_ > 0 ? last_dev_ / last_ticks_ : 0) - v.a_hi;
       v.a_hi = (static_cast<int32_t>(sum_ticks_[0]) - div2n(int32_t{first_ticks_} + last_ticks_, 1)) >> 3;  // span, bins
-    } else if (sub == 2 && part == 0) {
-      // T·ẏ = Δ · 2^16 / (span · 1/T): |Δ| clamped to 2^13, × 2^16 < 2^30; span < 2^13 bins ×
-      // 1/T ≤ 2^14 < 2^27 (≥ 1, else no correction).
-      const uint32_t den = static_cast<uint32_t>(v.a_hi) * inv_t_nofan_q16_;
-      const uint32_t c = static_cast<int32_t>(den) > 0 ? capped_ratio_q16(static_cast<uint32_t>(abs32(v.a_lo)), 8192, den) : 0;
-      v.a_hi = static_cast<int32_t>(c > 8192 ? 8192 : c);
-      if (v.a_lo < 0) v.a_hi = -v.a_hi;
     } else if (sub == 2) {
-      // The fan step's fall ẏ as duty: ẏ/S (duty_q16) = |Δ| · 2^16 / (span · S): |Δ| < 2^16
-      // (capped), × 2^16 < 2^32; span < 2^10 bins × S < 2^15 < 2^25; the result capped at 2^17.
-      // (No fan step, F0: span 0, nothing to divide.)
-      const uint32_t den = uint32_t{fan_span_} * static_cast<uint32_t>(slope_q8_);
-      const uint32_t c = den > 0 ? capped_ratio_q16(static_cast<uint32_t>(abs32(pending_q8_)), 65535, den) : 0;
-      v.a_hi = fixed::mul_q16(static_cast<int32_t>(c > 131072 ? 131072 : c), static_cast<uint16_t>(v.a_lo));
-      if (pending_q8_ > 0) v.a_hi = -v.a_hi;
+      // Relay: T·ẏ = Δ · 2^16 / (span · 1/T): |Δ| clamped to 2^13, × 2^16 < 2^30; span < 2^13
+      // bins × 1/T ≤ 2^14 < 2^27 (≥ 1, else no correction). Fan step: its fall ẏ as duty,
+      // −ẏ/S (duty_q16) = |Δ| · 2^16 / (span · S) (× the lag factor): |Δ| < 2^16 (capped), × 2^16
+      // < 2^32; span < 2^10 bins × S < 2^15 < 2^25; capped at 2^17 (F0: span 0, no division).
+      const int32_t d = part == 0 ? v.a_lo : pending_q8_;
+      const uint32_t den = part == 0 ? static_cast<uint32_t>(v.a_hi) * inv_t_nofan_q16_
+                                     : uint32_t{fan_span_} * static_cast<uint32_t>(slope_q8_);
+      const uint32_t c = static_cast<int32_t>(den) > 0 ? capped_ratio_q16(static_cast<uint32_t>(abs32(d)), part == 0 ? 8192 : 65535, den) : 0;
+      v.a_hi = part == 0 ? static_cast<int32_t>(c > 8192 ? 8192 : c)
+                         : fixed::mul_q16(static_cast<int32_t>(c > 131072 ? 131072 : c), static_cast<uint16_t>(v.a_lo));
+      if ((d < 0) != (part == 1)) v.a_hi = -v.a_hi;
     } else if (sub == 3) {
       v.mean_q8 = rise_target + sum_dev_[part] / n + (part == 0 ? v.a_hi : 0);
     } else if (sub == 4) {

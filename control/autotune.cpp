@@ -11,7 +11,7 @@
 //   the step a bin completes: only the bin means and histories (shifts, no division)
 //   the next steps, one each: that bin's logic as stages (bin_stage): baseline 3, probe ≤ 3,
 //     probe → approach 3 (the model history is generated one entry per bin as it is read,
-//     not all at once), approach 6, relay 3; a relay cycle's end 3 more (cycle_stage), taking
+//     not all at once), approach 6, relay 3, fan step 1 (sums, no division); a relay cycle's end 3 more (cycle_stage), taking
 //     precedence; they all fit in the 7 steps before the next bin (overruns() counts misses)
 //   compute: one stage per step (a division, or a logarithm or two) for ≈ 62 steps
 // No 64-bit arithmetic anywhere. Measured worst steps, in cycles (simavr, ATmega2560, -Os
@@ -201,7 +201,7 @@ bool Autotune::start(int32_t target_q8, uint8_t cycles, bool measure_fan, int32_
   ambient_q8_ = ambient_given_ ? ambient_q8 : kDefaultAmbientQ8;
   // C is the measurement effort: the first relay cycle settles the bias and is not used, then
   // max(2, C − 3) measured ones (with the drift correction two gave A within 1 % on the FOPDT
-  // plants; C5's former four cost 2 × 4 L̂); the fan part is a hold of ⌈C/2⌉ × (L̂ + 2) bins.
+  // plants; C5's former four cost 2 × 4 L̂); the fan step's window is ⌈C/2⌉ × (L̂/2 + 4) bins.
   nofan_measure_ = static_cast<uint8_t>(cycles > 5 ? cycles - 3 : 2);
   start_q8_ = INT32_MIN;
   enter(Phase::kBaseline);
@@ -744,7 +744,7 @@ void Autotune::model_anchor() {
   const int32_t anchor = div2n(y_bin_q8_ - ambient_q8_ - model_ago(horizon_bins_), 2);
   offset_q8_ += anchor;
   model_q8_ += anchor;
-  // An untrusted model's relay and fan hold: heater off while the trend would carry the reading
+  // An untrusted model's relay: heater off while the trend would carry the reading
   // past target + 2 °C.
   guard_off_ = untrusted_ && trend_q8() > target_q8_ + kGuardMarginQ8;
 }
@@ -1067,7 +1067,7 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
 // The fan step (F1). Near the no-fan steady state the hotend obeys K·u(t − L) = (1 + F)·rise +
 // T·ẏ: once the held duty u and the fan show in the reading, its level and slope give F, open
 // loop, in a few dead times (the hold it replaces waited for the approach law to bring the
-// reading back from the dip and then held ⌈C/2⌉ × (L̂ + 2) bins: seed002 192 s, now ~45 s).
+// reading back from the dip and then held ⌈C/2⌉ × (L̂ + 2) bins: seed002 211 s, now 28 s).
 // From L̂ + 2 bins after the fan came on (2 L̂ + 2 on a lag-type hotend: its sensor lag must pass
 // too) a window of ⌈C/2⌉ × (L̂/2 + 4) bins: length in bins (< 2^10 for L̂ < 256).
 uint16_t Autotune::fan_wait_bins() const {
@@ -1114,8 +1114,8 @@ bool Autotune::compute_chunk() {
     const int32_t n = static_cast<int32_t>(sum_ticks_[part]) > 0 ? static_cast<int32_t>(sum_ticks_[part]) : 1;
     // A window whose mean still drifts (the slow mode of a lag-type hotend: 2 relay cycles of 5 s
     // on light-fast's 88 s read K 7.6 % high) reads the wrong gain: K·ū = rise + T·ẏ over it.
-    // ẏ: relay, the first and last measured cycles' means (centre to centre); fan hold, its first
-    // and last bins. T: the learnt 1/T (the relay's from before the fan came on).
+    // ẏ: the first and last measured cycles' means (centre to centre). T: the learnt 1/T (the
+    // relay's, kept when the fan came on). (The fan step's window reads its own ẏ: sub 2.)
     // Cycle sums: |dev| ≤ 2^13 per tick × ≤ 2^16 ticks.
     // first_ticks_ + last_ticks_ in 32 bits: each is up to 2^16 − 1 ticks, and int is 16 bits on AVR.
     if (sub == 0) {

@@ -11,7 +11,7 @@
 //   the step a bin completes: only the bin means and histories (shifts, no division)
 //   the next steps, one each: that bin's logic as stages (bin_stage): baseline 3, probe ≤ 3,
 //     probe → approach 3 (the model history is generated one entry per bin as it is read,
-//     not all at once), approach 6, relay 3; a relay cycle's end 3 more (cycle_stage), taking
+//     not all at once), approach 6, relay 3, fan step 1 (sums, no division); a relay cycle's end 3 more (cycle_stage), taking
 //     precedence; they all fit in the 7 steps before the next bin (overruns() counts misses)
 //   compute: one stage per step (a division, or a logarithm or two) for ≈ 62 steps
 // No 64-bit arithmetic anywhere. Measured worst steps, in cycles (simavr, ATmega2560, -Os
@@ -66,6 +66,8 @@ constexpr uint16_t kMinDutyStepQ16 = 328;       // d ≥ 0.5 %
 constexpr uint16_t kMaxDutyStepQ16 = 16384;     // d ≤ 25 %
 constexpr uint16_t kFull = 65535;
 constexpr uint8_t kCycleSteps = 13;  // compute steps per stored relay cycle
+constexpr uint8_t kFanSteps = 5;     // compute steps of the gain with the fan
+constexpr int32_t kFanFallQ8 = 8 * kQ8;  // the fan step's window may end once the reading fell this far
 
 // The small helpers below are noinline: with LTO every use was inlined (32-bit shifts and
 // compares), 660 bytes of flash in all (div2n alone 496) for a call's few cycles.
@@ -199,7 +201,7 @@ bool Autotune::start(int32_t target_q8, uint8_t cycles, bool measure_fan, int32_
   ambient_q8_ = ambient_given_ ? ambient_q8 : kDefaultAmbientQ8;
   // C is the measurement effort: the first relay cycle settles the bias and is not used, then
   // max(2, C − 3) measured ones (with the drift correction two gave A within 1 % on the FOPDT
-  // plants; C5's former four cost 2 × 4 L̂); the fan part is a hold of ⌈C/2⌉ × (L̂ + 2) bins.
+  // plants; C5's former four cost 2 × 4 L̂); the fan step's window is ⌈C/2⌉ × (L̂/2 + 4) bins.
   nofan_measure_ = static_cast<uint8_t>(cycles > 5 ? cycles - 3 : 2);
   start_q8_ = INT32_MIN;
   enter(Phase::kBaseline);
@@ -297,14 +299,6 @@ AutotuneOutput Autotune::step(int32_t y) {
     case Phase::kRelay:
       ended = relay_tick(yf, y);
       break;
-    case Phase::kApproach:
-      if (appr_.hold_bins != 0) {
-        // The fan hold: its mean rise over its mean duty is the gain with the fan (compute).
-        sum_dev_[1] += y - target_q8_;  // |y − target| < 2^14 per tick, ≤ 2^16 ticks
-        sum_duty_[1] += duty_q16_ >> 4;
-        ++sum_ticks_[1];
-      }
-      break;
     case Phase::kCompute:
       if (compute_chunk()) {
         state_ = AutotuneState::kFinished;
@@ -383,6 +377,9 @@ uint8_t Autotune::bin_stage(uint8_t stage) {
       return approach_stage(stage);
     case Phase::kRelay:
       return relay_stage(stage);
+    case Phase::kFan:
+      fan_stage();
+      return 0;
     default:
       return 0;
   }
@@ -747,7 +744,7 @@ void Autotune::model_anchor() {
   const int32_t anchor = div2n(y_bin_q8_ - ambient_q8_ - model_ago(horizon_bins_), 2);
   offset_q8_ += anchor;
   model_q8_ += anchor;
-  // An untrusted model's relay and fan hold: heater off while the trend would carry the reading
+  // An untrusted model's relay: heater off while the trend would carry the reading
   // past target + 2 °C.
   guard_off_ = untrusted_ && trend_q8() > target_q8_ + kGuardMarginQ8;
 }
@@ -825,9 +822,6 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       }
       const int32_t u = ap.steady_q16 + ((ex * ap.gain_q8) >> 8);  // |ex·gain| ≤ 51,200 · 40,000 < 2^31
       duty_q16_ = clamp_duty(u);
-      // The fan hold on an untrusted model, as its relay (guard_off_: seed000 at σ 0.3 °C reached
-      // S + 5.3 without).
-      if (ap.hold_bins != 0 && guard_off_) duty_q16_ = 0;
       ap.duty_avg_q16 += div2n(static_cast<int32_t>(duty_q16_) - ap.duty_avg_q16, 2);
       // (An untrusted model's P law may stall short of the target: the relay takes over nearer.)
       ap.settled_bins = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? 4 * kSettleBandQ8 : kSettleBandQ8)
@@ -844,30 +838,9 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         if (ap.side != 0) ++ap.crossings;
         ap.side = side;
       }
-      if (ap.hold_bins != 0) {
-        // Compared before the increment: at hold_len 255 the 8-bit count wraps to 0, and an
-        // increment first would then restart the hold for ever (the tune timed out).
-        if (ap.hold_bins++ < ap.hold_len) return 0;
-        pending_q8_ = y_bin_q8_ - pending_q8_;  // the hold's drift (compute)
-        fan_ = 0;
-        duty_q16_ = 0;
-        compute_step_ = 0;
-        enter(Phase::kCompute);
-        return 0;
-      }
       return ap.settled_bins >= horizon_bins_ + 2 || ap.near_bins >= 3 * (horizon_bins_ + 2) || ap.crossings >= 2 ? 7 : 0;
     }
     default: {
-      if (fan_pending_) {
-        // Settled with the fan on: hold there (the same law, its loss still learnt) and measure
-        // the mean duty, instead of relay cycles (each ≥ 4 L̂ on a dead-time hotend): (C + 1)/2
-        // × (L̂ + 2 bins), capped at 255 bins (C20 on a 70-bin horizon would be 720).
-        const uint16_t len = static_cast<uint16_t>(((cycles_ + 1u) >> 1) * (horizon_bins_ + 2u));
-        ap.hold_len = static_cast<uint8_t>(len > 255 ? 255 : len);
-        ap.hold_bins = 1;
-        pending_q8_ = y_bin_q8_;  // its first bin, for its drift
-        return 0;
-      }
       ap.crossings = 0;
       ap.side = 0;
       // Relay around the smoothed duty; d for ±1.5 °C by the probe's model (in-flight rise per
@@ -1076,19 +1049,11 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
     stage_ = 0;  // the relay's bin stages (if any) do not belong to the next phase
     inv_t_nofan_q16_ = inv_t_q16_;  // the relay's drift correction (compute), with or without F
     if (measure_fan_) {
-      // The fan's extra loss is a large step disturbance (tens of °C on a fast hotend): let the
-      // approach controller ride it out and re-learn the loss, then hold with the fan.
+      // The fan step: fan 100 %, the heater held at the last cycle's mean duty (stage 3 above),
+      // open loop: the reading can only fall (F ≥ 0), and its fall gives F (fan_stage).
       fan_ = 255;
-      fan_pending_ = true;
-      // Expect a typical fan's extra loss at once (+40 % of the loss rate, hotend40w's 43 %), so
-      // the approach raises the duty with the fan instead of after a dip that can last minutes
-      // on slow hotends; the hold then measures the real figure. inv_t·26214 < 2^31.
-      inv_t_q16_ = static_cast<uint16_t>(fixed::sat_u16(static_cast<int32_t>(
-          inv_t_q16_ + ((uint32_t{inv_t_q16_} * 26214u) >> 16))));
-      appr_.settled_bins = 0;
-      appr_.near_bins = 0;
-      appr_.full_bins = 0;
-      enter(Phase::kApproach);
+      duty_q16_ = bias_q16_;
+      enter(Phase::kFan);
     } else {
       fan_ = 0;
       duty_q16_ = 0;
@@ -1099,8 +1064,42 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
   return 0;
 }
 
+// The fan step (F1). Near the no-fan steady state the hotend obeys K·u(t − L) = (1 + F)·rise +
+// T·ẏ: once the held duty u and the fan show in the reading, its level and slope give F, open
+// loop, in a few dead times (the hold it replaces waited for the approach law to bring the
+// reading back from the dip and then held ⌈C/2⌉ × (L̂ + 2) bins: seed002 211 s, now 28 s).
+// From L̂ + 2 bins after the fan came on (2 L̂ + 2 on a lag-type hotend: its sensor lag must pass
+// too) a window of ⌈C/2⌉ × (L̂/2 + 4) bins: length in bins (< 2^10 for L̂ < 256).
+uint16_t Autotune::fan_wait_bins() const {
+  return static_cast<uint16_t>((probe_.continuous ? 2u : 1u) * horizon_bins_ + 2u);
+}
+
+uint16_t Autotune::fan_span_bins() const {
+  return static_cast<uint16_t>(((cycles_ + 1u) >> 1) * ((horizon_bins_ >> 1) + 4u));
+}
+
+// One piece per bin, no division: bins_ counts the bins since the fan came on. The window's bin
+// means summed (|y − target| < 2^16 per bin, < 2^11 bins), its first bin kept for its change.
+void Autotune::fan_stage() {
+  const uint16_t wait = fan_wait_bins();
+  if (bins_ < wait) return;
+  if (bins_ == wait) pending_q8_ = y_bin_q8_;
+  sum_dev_[1] += y_bin_q8_ - target_q8_;
+  ++sum_ticks_[1];
+  // The window ends early once the reading has fallen kFanFallQ8 past its first bin (a fast
+  // hotend's slope is plain by then, and the dip stays small): its span is then the bins so far.
+  const int32_t fall = pending_q8_ - y_bin_q8_;
+  if (bins_ < wait + fan_span_bins() && (fall < kFanFallQ8 || bins_ < wait + 4)) return;
+  fan_span_ = static_cast<uint16_t>(bins_ - wait);
+  pending_q8_ = -fall;  // Δ over the span (compute)
+  fan_ = 0;
+  duty_q16_ = 0;
+  compute_step_ = 0;
+  enter(Phase::kCompute);
+}
+
 // The final arithmetic, one piece per step (at most one 32-bit division or two logarithms):
-// 0–5 K (0–2 the drift); 13 per stored cycle (T, L from the relay); 4 for K with the fan (hold);
+// 0–5 K (0–2 the drift); 13 per stored cycle (T, L from the relay); 4 for K with the fan (step);
 // 10 for F, the averages, the probe's C and the result.
 bool Autotune::compute_chunk() {
   Compute& v = near(c_);
@@ -1108,34 +1107,53 @@ bool Autotune::compute_chunk() {
   const uint8_t stored = stored_count_ < kMaxStoredCycles ? stored_count_ : kMaxStoredCycles;
   constexpr uint8_t k0 = 6;  // compute steps of the no-fan gain
   uint8_t s = compute_step_++;
-  if (s < k0 || (s >= k0 + kCycleSteps * stored && s < k0 + 4 + kCycleSteps * stored)) {  // fan: subs 2–5
-    // Gain = mean rise / mean duty over the measured cycles [0] or the fan hold [1].
+  if (s < k0 || (s >= k0 + kCycleSteps * stored && s < k0 + kFanSteps + kCycleSteps * stored)) {  // fan: subs 1–5
+    // Gain = mean rise / mean duty over the measured cycles [0] or the fan step [1].
     const uint8_t part = s < k0 ? 0 : 1;
-    const uint8_t sub = s < k0 ? s : static_cast<uint8_t>(s - k0 - kCycleSteps * stored + 2);
+    const uint8_t sub = s < k0 ? s : static_cast<uint8_t>(s - k0 - kCycleSteps * stored + 1);
     const int32_t n = static_cast<int32_t>(sum_ticks_[part]) > 0 ? static_cast<int32_t>(sum_ticks_[part]) : 1;
     // A window whose mean still drifts (the slow mode of a lag-type hotend: 2 relay cycles of 5 s
     // on light-fast's 88 s read K 7.6 % high) reads the wrong gain: K·ū = rise + T·ẏ over it.
-    // ẏ: relay, the first and last measured cycles' means (centre to centre); fan hold, its first
-    // and last bins. T: the learnt 1/T (the relay's from before the fan came on).
+    // ẏ: the first and last measured cycles' means (centre to centre). T: the learnt 1/T (the
+    // relay's, kept when the fan came on). (The fan step's window reads its own ẏ: sub 2.)
     // Cycle sums: |dev| ≤ 2^13 per tick × ≤ 2^16 ticks.
     // first_ticks_ + last_ticks_ in 32 bits: each is up to 2^16 − 1 ticks, and int is 16 bits on AVR.
     if (sub == 0) {
       v.a_hi = first_ticks_ > 0 ? first_dev_ / first_ticks_ : 0;
+    } else if (sub == 1 && part == 1) {
+      // A lag-type hotend's S is its sensor's steepest heat-up slope, (K − rise there)/T, where
+      // the fall's ẏ/S wants the block's K/T: the factor (K − rise)/K, Q16 (K < 2^19, × 2^16 by
+      // div_q16's shifts). (light-fast read F +20 % without it.)
+      v.a_lo = 65535;
+      if (probe_.continuous && v.k_q8 > probe_.slope_rise_q8 && probe_.slope_rise_q8 > 0) {
+        const uint32_t r = div_q16(static_cast<uint32_t>(v.k_q8 - probe_.slope_rise_q8), static_cast<uint32_t>(v.k_q8));
+        v.a_lo = static_cast<int32_t>(r > 65535 ? 65535 : r);
+      }
     } else if (sub == 1) {
       v.a_lo = (last_ticks_ > 0 ? last_dev_ / last_ticks_ : 0) - v.a_hi;
       v.a_hi = (static_cast<int32_t>(sum_ticks_[0]) - div2n(int32_t{first_ticks_} + last_ticks_, 1)) >> 3;  // span, bins
     } else if (sub == 2) {
-      // T·ẏ = Δ · 2^16 / (span · 1/T): |Δ| clamped to 2^13, × 2^16 < 2^30; span < 2^13 bins ×
-      // 1/T ≤ 2^14 < 2^27 (≥ 1, else no correction).
+      // Relay: T·ẏ = Δ · 2^16 / (span · 1/T): |Δ| clamped to 2^13, × 2^16 < 2^30; span < 2^13
+      // bins × 1/T ≤ 2^14 < 2^27 (≥ 1, else no correction). Fan step: its fall ẏ as duty,
+      // −ẏ/S (duty_q16) = |Δ| · 2^16 / (span · S) (× the lag factor): |Δ| < 2^16 (capped), × 2^16
+      // < 2^32; span < 2^10 bins × S < 2^15 < 2^25; capped at 2^17 (F0: span 0, no division).
       const int32_t d = part == 0 ? v.a_lo : pending_q8_;
-      const uint32_t den = static_cast<uint32_t>(part == 0 ? v.a_hi : appr_.hold_len) * (part == 0 ? inv_t_nofan_q16_ : inv_t_q16_);
-      const uint32_t c = static_cast<int32_t>(den) > 0 ? capped_ratio_q16(static_cast<uint32_t>(abs32(d)), 8192, den) : 0;
-      v.a_hi = static_cast<int32_t>(c > 8192 ? 8192 : c);
-      if (d < 0) v.a_hi = -v.a_hi;
+      const uint32_t den = part == 0 ? static_cast<uint32_t>(v.a_hi) * inv_t_nofan_q16_
+                                     : uint32_t{fan_span_} * static_cast<uint32_t>(slope_q8_);
+      const uint32_t c = static_cast<int32_t>(den) > 0 ? capped_ratio_q16(static_cast<uint32_t>(abs32(d)), part == 0 ? 8192 : 65535, den) : 0;
+      v.a_hi = part == 0 ? static_cast<int32_t>(c > 8192 ? 8192 : c)
+                         : fixed::mul_q16(static_cast<int32_t>(c > 131072 ? 131072 : c), static_cast<uint16_t>(v.a_lo));
+      if ((d < 0) != (part == 1)) v.a_hi = -v.a_hi;
     } else if (sub == 3) {
-      v.mean_q8 = rise_target + sum_dev_[part] / n + v.a_hi;
+      v.mean_q8 = rise_target + sum_dev_[part] / n + (part == 0 ? v.a_hi : 0);
     } else if (sub == 4) {
-      v.duty = static_cast<int32_t>(sum_duty_[part] / static_cast<uint32_t>(n));  // duty_q16 >> 4
+      // duty_q16 >> 4; the fan step's is the duty that would hold its mean rise with the fan:
+      // ū_F = u − ẏ/S (near a steady state ẏ = S·(u − ū_F): K·u = (1 + F)·rise + T·ẏ, S = K/T),
+      // u the held duty, bias_q16_. F = K·ū_F/rise − 1 against the model's own K: the fan
+      // feedforward's duty at the target, ū·(1 + F), is then the measured ū_F whatever K's error
+      // (the last relay cycle's own rise/duty instead: σ 0.1 °C closer, but at σ 0.3 two-node-80W
+      // F 13–70 % against 26–64 %: one cycle's figures).
+      v.duty = part == 0 ? static_cast<int32_t>(sum_duty_[0] / static_cast<uint32_t>(n)) : (bias_q16_ >> 4) + div2n(v.a_hi, 4);
     } else {
       // mean rise < 2^17 (≤ 300 °C above ambient), × 2^12 < 2^29.
       const int32_t g = v.duty > 0 && v.mean_q8 > 0
@@ -1220,7 +1238,7 @@ bool Autotune::compute_chunk() {
       }
     }
   }
-  s = static_cast<uint8_t>(s - k0 - 4 - kCycleSteps * stored);  // the fan gain's 4 steps
+  s = static_cast<uint8_t>(s - k0 - kFanSteps - kCycleSteps * stored);  // the fan gain's steps
   HotendModel& m = near(result_.model);
   const int32_t count = v.tl_count > 0 ? v.tl_count : 1;
   switch (s) {

@@ -22,12 +22,14 @@
 //             noisy sensor; with a trusted model no half shorter than L̂/2) around the
 //             target; bias = last cycle's mean duty, d for ±1.5 °C, a drifting relay re-biased
 //             from its drift; one settling cycle, then max(2, C − 3) measured
-//   fan hold  part fan at 100 %: the approach law again, then held for ⌈C/2⌉ × (L̂ + 2) bins:
-//             its mean duty gives the gain with the fan (no relay cycles: each ≥ 4 L̂)
+//   fan step  part fan at 100 %, the heater held open loop at the last relay cycle's mean duty
+//             (the reading can only fall); from L̂ + 2 bins on (2 L̂ + 2 lag-type) a window of
+//             ⌈C/2⌉ × (L̂/2 + 4) bins, ended once the reading fell 8 °C: its mean rise and its
+//             fall give the duty that holds the rise with the fan, ū_F = u − ẏ/S
 //   compute   K from mean temperature / mean duty; T and L from the relay's asymmetric-FOPDT
 //             formulas (lag-type hotends: T from the heat-up slope, L from the relay amplitude;
 //             a cold cut probe: T = p/ln(K/(K − peak)) from its pulse where it agrees within 10 %);
-//             F from the fan hold's mean duty; K and F corrected for a window's drift
+//             F = K·ū_F/rise − 1 from the fan step; K corrected for the relay's drift
 //             (K·ū = rise + T·ẏ); one small piece per step (≈ 110 steps)
 // The slow logic runs in pieces of at most one 32-bit division each, one piece per step, so that
 // every step() stays cheap on AVR (see the cost notes at the top of autotune.cpp).
@@ -130,7 +132,7 @@ class Autotune {
   const AutotuneResult& result() const { return result_; }
 
   // For tests and diagnostics.
-  enum class Phase : uint8_t { kIdle, kCool, kBaseline, kProbe, kApproach, kRelay, kCompute, kDone };
+  enum class Phase : uint8_t { kIdle, kCool, kBaseline, kProbe, kApproach, kRelay, kCompute, kDone, kFan };
   Phase phase() const { return phase_; }
   uint32_t elapsed_ticks() const { return tick_; }
   int32_t slope_q8() const { return slope_q8_; }          // S: °C×256 per bin at full duty
@@ -156,6 +158,9 @@ class Autotune {
   uint8_t begin_stage(uint8_t stage);
   uint8_t approach_stage(uint8_t stage);
   uint8_t relay_stage(uint8_t stage);
+  void fan_stage();
+  uint16_t fan_wait_bins() const;
+  uint16_t fan_span_bins() const;
   void model_bin();
   void model_anchor();
   void start_probe();
@@ -197,8 +202,8 @@ class Autotune {
   int32_t slope_q8_ = 0;        // S: rise per bin at 100 % (°C × 256)
   uint16_t inv_t_q16_ = 0;      // loss rate 1/T per bin, Q16
   uint8_t horizon_bins_ = 0;
-  int32_t pending_q8_ = 0;      // a value carried from one stage to the next (the fan hold: its
-                                // first bin mean, for its drift)
+  int32_t pending_q8_ = 0;      // a value carried from one stage to the next (the fan step: its
+                                // window's first bin mean, then its change over the window)
   int32_t horizon_ticks_ = 0;   // L̂
   int32_t target_q8_ = 0;
   int32_t ambient_q8_ = 0;  // (kDefaultAmbientQ8 from start() unless measured or given)
@@ -304,8 +309,6 @@ class Autotune {
     uint8_t fill_on;         // the last fill_on bins were at full power
     uint16_t fill_a_q16;     // 1/T the history runs with
     uint8_t fill_head;       // ring_head_ when the approach began
-    uint8_t hold_bins;       // bins into the fan hold + 1 (0: not holding)
-    uint8_t hold_len;        // its length in bins
     uint8_t crossings;
     uint8_t steady_bins;     // bins the duty has stayed near steady_ref
     int16_t steady_ref;
@@ -313,7 +316,7 @@ class Autotune {
   };
   Approach appr_ = {};
   int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)
-  bool guard_off_ = false;      // relay and fan hold: heater off while the trend would carry the reading too high
+  bool guard_off_ = false;      // relay: heater off while the trend would carry the reading too high
   uint8_t guard_bins_ = 0;
 
   // Relay.
@@ -326,9 +329,9 @@ class Autotune {
   int32_t cyc_a_q8_ = 0;         // ... its half amplitude
   uint32_t cyc_duty_done_ = 0;   // ... its Σ duty
   uint8_t cycle_index_ = 0;     // completed relay cycles (the settling one included)
-  bool fan_pending_ = false;     // the fan is on: the approach ends in the fan hold
   uint8_t nofan_measure_ = 0;
   uint16_t inv_t_nofan_q16_ = 0;  // 1/T before the fan came on
+  uint16_t fan_span_ = 0;         // the fan step's window: bins from its first to its last
   bool started_cycle_ = false;
   int32_t sum_dev_[2] = {};     // Σ (y − target) per tick over measured cycles, [0] no fan, [1] fan
   uint32_t sum_duty_[2] = {};   // Σ duty q16 >> 4 per tick

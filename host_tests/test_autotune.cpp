@@ -292,15 +292,44 @@ TEST_F(AutotunePlants, DurationTargets) {
   }
 }
 
+// The probe → approach → relay part on the dead-time plants whose cut probe peaks sharply
+// (seed002, seed004): the loss rate from the decay after the peak's bin within 3 % (from the
+// peak's own bin, which rounds a sharp peak off, seed004 read 1/T 22 % low and its approach stalled
+// 25 °C short), and the deadbeat approach on the aligned predictor settled for the relay within
+// the full-power heat-up + 4.5 L after the probe (the slow law took 151 and 158 s: 6–8 L).
+TEST(AutotuneApproach, SharpPeakPlantsLandWithinHeatupPlusFourAndAHalfL) {
+  for (const Plant& p : plants()) {
+    if (p.name != "seed002" && p.name != "seed004") continue;
+    design::PlantSim sim(p.model);
+    sim.set_noise(0.1);
+    Autotune at;
+    at.configure(128);
+    ASSERT_TRUE(at.start(static_cast<int32_t>(p.target_c * 256), 5, true));
+    while (at.phase() != Autotune::Phase::kApproach && at.state() == AutotuneState::kRunning) {
+      const control::AutotuneOutput out = at.step(static_cast<int32_t>(std::lround(sim.measured_c() * 256)));
+      sim.run(out.duty_q16 / 65535.0, kPeriodS);
+    }
+    const double inv_t = at.inv_t_q16() / 65536.0, inv_t_true = Autotune::kTicksPerBin * kPeriodS / p.t;
+    std::printf("%-8s 1/T per bin %.5f (true %.5f)\n", p.name.c_str(), inv_t, inv_t_true);
+    EXPECT_NEAR(inv_t, inv_t_true, 0.03 * inv_t_true) << p.name;
+    const TuneRun r = run(p, 5, true, 0.1, false, 1.0, -1, false, 1800);
+    std::printf("%-8s approach %.1f s, relay %.1f s: %.1f s (heat-up %.1f + 4.5 L %.1f)\n", p.name.c_str(), r.approach_s,
+                r.relay_s, r.relay_s - r.approach_s, r.heatup_s, 4.5 * p.l);
+    EXPECT_LE(r.relay_s - r.approach_s, r.heatup_s + 4.5 * p.l) << p.name;
+    EXPECT_LE(r.max_c, p.target_c + 2.0) << p.name;
+  }
+}
+
 // M303's default effort (C5, F1): the tune's duration per plant against issue 7's target (≤ 4 min
 // on hotend40w-class plants, ≤ the full-power heat-up + 3 min elsewhere, 2 × that on seed000).
 // Where it is met, the target is asserted; elsewhere a ceiling ~10 % above the figure measured
 // when the fan part became a hold (relay-only tune before, s: seed002 918, seed004 904, seed003
 // 379, fopdt-300-10 746, fopdt-120-25 1378, heavy-slow 2281, two-node-delay5 975, seed000-4 5196,
-// seed000-5 4407), so a slower tune fails here.
+// seed000-5 4407), so a slower tune fails here. seed002 and seed004 since the deadbeat approach
+// and the relay without a settling cycle: 634 → 518 s and 616 → 511 s.
 TEST(AutotuneDuration, DefaultEffortC5PerPlant) {
   const std::map<std::string, double> ceiling = {
-      {"seed002", 740},      {"seed004", 730},       {"seed003", 360},       {"fopdt-300-10", 620},
+      {"seed002", 570},      {"seed004", 565},       {"seed003", 360},       {"fopdt-300-10", 620},
       {"fopdt-120-25", 1085}, {"heavy-slow", 2090},  {"two-node-delay5", 890}, {"seed000-4", 4760},
       {"seed000-5", 3730}};
   std::printf("%-16s %7s %7s %6s\n", "plant", "tune s", "target", "max-S");
@@ -486,7 +515,8 @@ TEST(Autotune, ReportsMarlinCycleLinesAndKuTu) {
     sim.run(out.duty_q16 / 65535.0, kPeriodS);
   }
   EXPECT_EQ(at.state(), AutotuneState::kFinished);
-  EXPECT_EQ(cycles, 3);
+  // C3: two measured cycles; the approach settles on the target, so no settling cycle before.
+  EXPECT_EQ(cycles, 2);
   EXPECT_GT(q8(at.result().ultimate.tu_q8), 5.0);
   EXPECT_FALSE(at.result().hot_start);
   EXPECT_NEAR(q8(at.result().ambient_q8), 25.0, 0.1);

@@ -689,7 +689,12 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   ap.near_bins = 0;
   // The deadbeat needs a model to trust: a cold cut probe with a sharp (FOPDT-like) peak.
   // (and a loss rate: ū = 0 would hold nothing once landed).
-  ap.landed = untrusted_ || probe_.continuous || hot_start_ || probe_.retries != 0 || probe_.max_tick == 0 || inv_t_q16_ == 0 ? 2 : 0;
+  // A flat peak too where the cut-to-peak time is within 1.25 × the pulse-to-response time: an
+  // FOPDT's are both its dead time; a sensor lag peaks 2–4 × later (heavy-slow, hotend40w-delay5:
+  // on those the deadbeat reached S + 10 °C at σ 0.5, or the relay then stopped switching). A
+  // loss still unknown (fopdt-120-25: < 1 °C of decay) is learnt at full power and near the target.
+  const bool fopdt_like = probe_.max_tick != 0 || 4 * horizon_ticks_ <= 5 * (static_cast<int32_t>(probe_.det_bin) * kTicksPerBin);
+  ap.landed = untrusted_ || probe_.continuous || hot_start_ || probe_.retries != 0 || !fopdt_like ? 2 : 0;
   enter(Phase::kApproach);
   duty_q16_ = heater_on_ ? kFull : 0;
   heater_on_ = false;

@@ -292,14 +292,16 @@ TEST_F(AutotunePlants, DurationTargets) {
   }
 }
 
-// The probe → approach → relay part on the dead-time plants whose cut probe peaks sharply
-// (seed002, seed004): the loss rate from the decay after the peak's bin within 3 % (from the
-// peak's own bin, which rounds a sharp peak off, seed004 read 1/T 22 % low and its approach stalled
-// 25 °C short), and the deadbeat approach on the aligned predictor settled for the relay within
-// the full-power heat-up + 4.5 L after the probe (the slow law took 151 and 158 s: 6–8 L).
-TEST(AutotuneApproach, SharpPeakPlantsLandWithinHeatupPlusFourAndAHalfL) {
+// The probe → approach → relay part on the FOPDT dead-time plants: on those whose cut probe
+// peaks sharply (seed002, seed004) the loss rate from the decay after the peak's bin within 3 %
+// (from the peak's own bin, which rounds a sharp peak off, seed004 read 1/T 22 % low and its
+// approach stalled 25 °C short); on those and on fopdt-120-25 (a flat peak as late after the cut
+// as the response after the pulse's start) the deadbeat approach on the aligned predictor settled
+// for the relay within the full-power heat-up + 4.5 L after the probe (the slow law took 151,
+// 158 and 343 s: 7–14 L).
+TEST(AutotuneApproach, FopdtDeadTimePlantsLandWithinHeatupPlusFourAndAHalfL) {
   for (const Plant& p : plants()) {
-    if (p.name != "seed002" && p.name != "seed004") continue;
+    if (p.name != "seed002" && p.name != "seed004" && p.name != "fopdt-120-25") continue;
     design::PlantSim sim(p.model);
     sim.set_noise(0.1);
     Autotune at;
@@ -311,7 +313,9 @@ TEST(AutotuneApproach, SharpPeakPlantsLandWithinHeatupPlusFourAndAHalfL) {
     }
     const double inv_t = at.inv_t_q16() / 65536.0, inv_t_true = Autotune::kTicksPerBin * kPeriodS / p.t;
     std::printf("%-8s 1/T per bin %.5f (true %.5f)\n", p.name.c_str(), inv_t, inv_t_true);
-    EXPECT_NEAR(inv_t, inv_t_true, 0.03 * inv_t_true) << p.name;
+    if (p.name != "fopdt-120-25") {  // (its decay after the peak: < 1 °C, the loss unknown)
+      EXPECT_NEAR(inv_t, inv_t_true, 0.03 * inv_t_true) << p.name;
+    }
     const TuneRun r = run(p, 5, true, 0.1, false, 1.0, -1, false, 1800);
     std::printf("%-8s approach %.1f s, relay %.1f s: %.1f s (heat-up %.1f + 4.5 L %.1f)\n", p.name.c_str(), r.approach_s,
                 r.relay_s, r.relay_s - r.approach_s, r.heatup_s, 4.5 * p.l);
@@ -325,12 +329,13 @@ TEST(AutotuneApproach, SharpPeakPlantsLandWithinHeatupPlusFourAndAHalfL) {
 // Where it is met, the target is asserted; elsewhere a ceiling ~10 % above the figure measured
 // when the fan part became a hold (relay-only tune before, s: seed002 918, seed004 904, seed003
 // 379, fopdt-300-10 746, fopdt-120-25 1378, heavy-slow 2281, two-node-delay5 975, seed000-4 5196,
-// seed000-5 4407), so a slower tune fails here. seed002 and seed004 since the deadbeat approach
-// and the relay without a settling cycle: 634 → 518 s and 616 → 511 s.
+// seed000-5 4407), so a slower tune fails here. Since the deadbeat approach and the relay without
+// a settling cycle: seed002 634 → 518 s, seed004 616 → 511, fopdt-120-25 986 → 845, fopdt-300-10
+// 565 → 537.
 TEST(AutotuneDuration, DefaultEffortC5PerPlant) {
   const std::map<std::string, double> ceiling = {
-      {"seed002", 570},      {"seed004", 565},       {"seed003", 360},       {"fopdt-300-10", 620},
-      {"fopdt-120-25", 1085}, {"heavy-slow", 2090},  {"two-node-delay5", 890}, {"seed000-4", 4760},
+      {"seed002", 570},      {"seed004", 565},       {"seed003", 360},       {"fopdt-300-10", 590},
+      {"fopdt-120-25", 930}, {"heavy-slow", 2090},  {"two-node-delay5", 890}, {"seed000-4", 4760},
       {"seed000-5", 3730}};
   std::printf("%-16s %7s %7s %6s\n", "plant", "tune s", "target", "max-S");
   for (const Plant& p : plants()) {

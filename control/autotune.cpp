@@ -62,6 +62,11 @@ constexpr uint8_t kNearSigmaQ4 = 128;
 constexpr uint8_t kLossDropSigmaQ4 = 64;
 constexpr uint8_t kDriftSigmaQ4 = 6;
 constexpr int32_t kGuardMarginQ8 = 2 * kQ8;     // untrusted model: relay's trend limit above target
+// A bin's mean reading shows the model's state (L̂ + 4 ticks)/8 bins back: its readings' centre
+// is half a bin before its end (model_delayed).
+constexpr int32_t kAlignTicks = 4;
+constexpr int32_t kSharpQ8 = kQ8 / 2;  // a probe's peak is sharp this far above its bin (sharp_peak)
+constexpr uint8_t kSharpSigmaQ4 = 48;  // ... or 3 σ
 constexpr uint16_t kMinDutyStepQ16 = 328;       // d ≥ 0.5 %
 constexpr uint16_t kMaxDutyStepQ16 = 16384;     // d ≤ 25 %
 constexpr uint16_t kFull = 65535;
@@ -227,14 +232,43 @@ void Autotune::enter(Phase p) {
   bins_ = 0;
 }
 
+// i mod kRingBins for i < 2·kRingBins (every index the ring is reached by: < 143).
+static __attribute__((noinline)) uint8_t wrap_ring(uint8_t i) { return i >= Autotune::kRingBins ? static_cast<uint8_t>(i - Autotune::kRingBins) : i; }
+
 uint8_t Autotune::ring_index(uint8_t bins) const {
-  return static_cast<uint8_t>((ring_head_ + kRingBins - 1 - (bins % kRingBins)) % kRingBins);
+  // Subtractions, not `%`: avr-gcc calls a 16-bit division for each (≈ 200 cycles), and the
+  // aligned predictor reads the ring four times a bin. bins ≤ 72 here.
+  while (bins >= kRingBins) bins = static_cast<uint8_t>(bins - kRingBins);
+  return wrap_ring(static_cast<uint8_t>(ring_head_ + kRingBins - 1 - bins));
 }
 
 // The reading's 4-bin slope (°C × 256 per bin), ending at the last bin: one call for its four users.
 __attribute__((noinline)) int32_t Autotune::slope4_q8() const { return div2n(y_bin_q8_ - y_hist_q8_[3], 2); }
 
 __attribute__((noinline)) int32_t Autotune::model_ago(uint8_t bins) const { return int32_t{ring_[ring_index(bins)]} * 16 + offset_q8_; }
+
+// The model's state the last bin's reading shows: (L̂ + kAlignTicks)/8 bins ago, interpolated
+// between whole bins (the whole-bin horizon is up to 1.5 bins long: in a fast heat-up that is
+// tens of °C of heat taken for in flight, and a deadbeat approach then fell short by as much).
+// Entries differ by < 2^20 (±2,000 °C), × frac < 2^8.
+int32_t Autotune::model_delayed() const {
+  // (The slow law, tuned on the whole-bin horizon, keeps it: its plants' peaks are flat or
+  // their models unsure, and the bin is their timing's resolution anyway.)
+  if (appr_.landed == 2) return model_ago(horizon_bins_);
+  const uint32_t j_q8 = static_cast<uint32_t>(horizon_ticks_ + kAlignTicks) << 5;  // ÷ 8 bins, × 256
+  uint8_t whole = static_cast<uint8_t>(j_q8 >> 8);
+  if (whole > kRingBins - 2) whole = kRingBins - 2;
+  const int32_t a = model_ago(whole);
+  return a + div2n((model_ago(static_cast<uint8_t>(whole + 1)) - a) * static_cast<int32_t>(j_q8 & 0xFF), 8);
+}
+
+// A cold cut probe's sharp peak: its highest reading 0.5 °C (3 σ of a noisy one) above its bin's
+// mean (stage 4 tells the same from the deviations). seed002/004's peak bins lie 1–2 °C below;
+// seed000's flat top, with σ 0.02 °C readings, 0.06 °C (3 σ alone called it sharp: its L̂ then
+// the noise's, and the design after U1 overshot 22 °C).
+bool Autotune::sharp_peak() const {
+  return !hot_start_ && probe_.retries == 0 && probe_.y_peak_q8 < probe_max_q8_ - noise_floor(kSharpQ8, kSharpSigmaQ4);
+}
 
 uint8_t Autotune::duty_ago(uint8_t bins) const { return duty_ring_[ring_index(bins)]; }
 
@@ -243,7 +277,7 @@ uint8_t Autotune::duty_ago(uint8_t bins) const { return duty_ring_[ring_index(bi
 __attribute__((noinline)) void Autotune::push_bin(int16_t model_entry) {
   duty_ring_[ring_head_] = static_cast<uint8_t>(last_bin_duty_q8_ > 255 ? 255 : last_bin_duty_q8_);
   ring_[ring_head_] = model_entry;
-  ring_head_ = static_cast<uint8_t>((ring_head_ + 1) % kRingBins);
+  ring_head_ = wrap_ring(static_cast<uint8_t>(ring_head_ + 1));
 }
 
 // The model's rise per bin at a bin's mean duty (256 = 100 %), rounded: S < 2^15, × 256 < 2^23.
@@ -294,7 +328,10 @@ AutotuneOutput Autotune::step(int32_t y) {
       duty_q16_ = heater_on_ ? kFull : 0;
       // The highest single reading after the cut: the FOPDT response's sharp peak, which a bin
       // mean rounds off by up to ~4 % of its height (seed002: rising 16 °C/s, falling 2.6).
-      if (!heater_on_ && !probe_.peaked && y > probe_max_q8_) probe_max_q8_ = y;
+      if (!heater_on_ && !probe_.peaked && y > probe_max_q8_) {
+        probe_max_q8_ = y;
+        probe_.max_tick = probe_ticks_;  // a sharp peak's time, to the tick (the bins: ±4)
+      }
       break;
     case Phase::kRelay:
       ended = relay_tick(yf, y);
@@ -457,14 +494,19 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
   const uint16_t k = bins_;  // bin k covers probe ticks (8(k − 1), 8k]
   if (stage == 3) {
     // Loss rate from the decay after the peak: drop / (mid rise · bins), Q16 (drop < 2^15).
-    const int32_t drop = p.y_peak_q8 - y_bin_q8_;
-    const int32_t mid_rise = div2n(p.y_peak_q8 + y_bin_q8_, 1) - ambient_q8_;
+    // A sharp peak (its highest reading 3 σ above its bin, as stage 4 tells) from the bin after
+    // the peak's: the peak's own bin rounds it off (seed004: 1/T 22 % low from the peak bin over
+    // 5 bins, ū 30 % low, and the deadbeat approach landed 25 °C short). A flat one from its bin.
+    const bool sharp = sharp_peak();
+    const int32_t from = sharp ? p.y_after_q8 : p.y_peak_q8;
+    const int32_t drop = from - y_bin_q8_;
+    const int32_t mid_rise = div2n(from + y_bin_q8_, 1) - ambient_q8_;
     uint32_t inv_t = 0;
     // A drop under 1 °C (or 4 σ of a noisy reading: the highest bin is itself lifted by the noise)
     // is noise: loss unknown (learnt during the heat-up).
     if (drop > noise_floor(kQ8, kLossDropSigmaQ4) && mid_rise > kQ8) {
       const uint32_t num = static_cast<uint32_t>(drop > 32767 ? 32767 : drop) << 16;
-      const uint32_t den = static_cast<uint32_t>(mid_rise) * static_cast<uint32_t>(k - p.peak_bin);
+      const uint32_t den = static_cast<uint32_t>(mid_rise) * static_cast<uint32_t>(k - p.peak_bin - (sharp ? 1 : 0));
       inv_t = (num + den / 2) / den;
     }
     inv_t_q16_ = static_cast<uint16_t>(inv_t > 16384 ? 16384 : inv_t);
@@ -478,7 +520,12 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     // low) is the highest bin (σ/√8). The max is a real reading here (the cut path has readings
     // between the cut and the peak), so the subtraction cannot wrap.
     probe_max_q8_ -= ambient_q8_ + p.base_rise_q8;
-    if (p.dev_peak_q8 > probe_max_q8_ - 3 * static_cast<int32_t>(noise_q8_)) probe_max_q8_ = p.dev_peak_q8;
+    // Its time is the peak's (L̂ to the tick) where the peak is sharp, as sharp_peak() tells (a
+    // hot start's or a retry's highest reading is the decaying start, not the peak).
+    if (hot_start_ || p.retries != 0 || p.dev_peak_q8 > probe_max_q8_ - noise_floor(kSharpQ8, kSharpSigmaQ4)) p.max_tick = 0;
+    if (hot_start_ || p.retries != 0 || p.dev_peak_q8 > probe_max_q8_ - 3 * static_cast<int32_t>(noise_q8_)) {
+      probe_max_q8_ = p.dev_peak_q8;
+    }
     // S: that height over the pulse (a hot start or a retry: the highest bin, against its own
     // decaying or tail-lifted baseline). The bin alone read seed002's S 3.6 % low, ū as much
     // high: the approach overshot by 3.7 °C at σ 0 and up to 5.2 °C at σ 0.5.
@@ -499,7 +546,8 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     slope_q8_ = s < p.slope_max_q8 ? p.slope_max_q8 : s;
     appr_.full_bins = 0;
     // Cut-to-peak time (the FOPDT's dead time): the peak is at the centre of the highest bin.
-    horizon_ticks_ = static_cast<int32_t>(p.peak_bin) * kTicksPerBin - kTicksPerBin / 2 - static_cast<int32_t>(p.off_tick);
+    horizon_ticks_ = (p.max_tick != 0 ? static_cast<int32_t>(p.max_tick) : static_cast<int32_t>(p.peak_bin) * kTicksPerBin - kTicksPerBin / 2) -
+                     static_cast<int32_t>(p.off_tick);
     // The peak height (stage 4) for compute's C; 0 when the baseline was not steady (hot start:
     // decaying; a retry: the earlier pulses' tails).
     if (hot_start_ || p.retries != 0) probe_max_q8_ = 0;
@@ -570,6 +618,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     const int32_t dev_s = div2n(p.dev_prev2_q8 + 2 * p.dev_prev_q8 + p.dev_q8 + 2, 2);
     int32_t& smooth_peak_q8 = p.slope_rise_q8;  // unused on this (the cut) path: no RAM of its own
     if (dev_s > smooth_peak_q8) smooth_peak_q8 = dev_s;
+    if (k == p.peak_bin + 1) p.y_after_q8 = y_bin_q8_;  // a sharp peak's decay starts here (stage 3)
     if (p.dev_q8 > p.dev_peak_q8) {
       p.dev_peak_q8 = p.dev_q8;
       p.peak_bin = k;
@@ -585,7 +634,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
   // Decay after the peak for a quarter of the cut-to-peak time (≥ 3 bins): the loss rate 1/T.
   const int32_t peak_tick = static_cast<int32_t>(p.peak_bin) * kTicksPerBin - kTicksPerBin / 2;
   const int32_t quarter = (peak_tick - static_cast<int32_t>(p.off_tick)) >> 5;  // ÷ (4·kTicksPerBin)
-  if (k - p.peak_bin < (quarter < 3 ? 3 : quarter)) return 0;
+  if (k - p.peak_bin < (quarter < 3 ? 3 : quarter) + (sharp_peak() ? 1 : 0)) return 0;
   return 3;
 }
 
@@ -635,6 +684,14 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   ap.duty_avg_q16 = 0;
   ap.settled_bins = 0;
   ap.near_bins = 0;
+  // The deadbeat needs a model to trust: a cold cut probe with a sharp (FOPDT-like) peak.
+  // (and a loss rate: ū = 0 would hold nothing once landed).
+  // A flat peak too where the cut-to-peak time is within 1.25 × the pulse-to-response time: an
+  // FOPDT's are both its dead time; a sensor lag peaks 2–4 × later (heavy-slow, hotend40w-delay5:
+  // on those the deadbeat reached S + 10 °C at σ 0.5, or the relay then stopped switching). A
+  // loss still unknown (fopdt-120-25: < 1 °C of decay) is learnt at full power and near the target.
+  const bool fopdt_like = probe_.max_tick != 0 || 4 * horizon_ticks_ <= 5 * (static_cast<int32_t>(probe_.det_bin) * kTicksPerBin);
+  ap.landed = untrusted_ || probe_.continuous || hot_start_ || probe_.retries != 0 || !fopdt_like ? 2 : 0;
   enter(Phase::kApproach);
   duty_q16_ = heater_on_ ? kFull : 0;
   heater_on_ = false;
@@ -735,13 +792,14 @@ void Autotune::model_bin() {
 // One mul_q16.
 void Autotune::model_anchor() {
   Approach& ap = near(appr_);
-  if (ap.fill_j > 0) {
-    // The pre-approach history entry read below (L̂ bins ago), one recursion step per bin.
+  // The pre-approach history entries read below (model_delayed: up to 2 bins short of the
+  // whole-bin horizon), one recursion step per bin, 3 in the first to be that far ahead.
+  for (uint8_t n = ap.fill_j == horizon_bins_ ? 3 : 1; n != 0 && ap.fill_j > 0; --n) {
     --ap.fill_j;
     ap.fill_x_q8 += (ap.fill_j < ap.fill_on ? slope_q8_ : 0) - fixed::mul_q16(ap.fill_x_q8, ap.fill_a_q16);
-    ring_[(ap.fill_head + kRingBins - 1 - ap.fill_j) % kRingBins] = ring_entry(ap.fill_x_q8);
+    ring_[wrap_ring(static_cast<uint8_t>(ap.fill_head + kRingBins - 1 - ap.fill_j))] = ring_entry(ap.fill_x_q8);
   }
-  const int32_t anchor = div2n(y_bin_q8_ - ambient_q8_ - model_ago(horizon_bins_), 2);
+  const int32_t anchor = div2n(y_bin_q8_ - ambient_q8_ - model_delayed(), 2);
   offset_q8_ += anchor;
   model_q8_ += anchor;
   // An untrusted model's relay: heater off while the trend would carry the reading
@@ -812,7 +870,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       ap.steady_q16 = steady_from_model();
       return 6;
     case 6: {
-      const int32_t predicted = y_bin_q8_ + model_ago(0) - model_ago(horizon_bins_);
+      const int32_t predicted = y_bin_q8_ + model_ago(0) - model_delayed();
       int32_t ex = fixed::clamp(target_q8_ - predicted, -200 * kQ8, 200 * kQ8);
       if (untrusted_) {
         // The reading's own trend over the guard horizon must stay below the target: an
@@ -820,7 +878,23 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         const int32_t guard = target_q8_ - trend_q8();
         if (guard < ex) ex = guard;
       }
-      const int32_t u = ap.steady_q16 + ((ex * ap.gain_q8) >> 8);  // |ex·gain| ≤ 51,200 · 40,000 < 2^31
+      int32_t gain = ap.gain_q8;
+      // Landed: twice the slow law's gain (τ ≈ 0.6 L̂; the aligned predictor holds it on a
+      // trusted FOPDT-like model) takes the last few °C in ~L̂ instead of 2–3 L̂.
+      if (ap.landed == 1) gain = gain > 20000 ? 40000 : 2 * gain;
+      if (ap.landed == 0) {
+        // A trusted cut probe's first approach: deadbeat on the model (gain 1/S: full power until
+        // the undelayed prediction is within a bin's heat of the target, that bin's exact duty),
+        // then the slow law from the first unsaturated bin on.
+        const uint32_t fast = static_cast<uint32_t>(gain) * (horizon_bins_ < 3 ? 3u : horizon_bins_ + horizon_bins_ / 4u);
+        gain = static_cast<int32_t>(fast > 40000 ? 40000 : fast);
+        // The duty set now starts ¾ of a bin late (this is the bin's 6th step): the heat the
+        // present duty still adds above ū's until then counts as in flight too.
+        const int32_t late = heat_q8(static_cast<uint16_t>(duty_q16_ >> 8)) - heat_q8(static_cast<uint16_t>(ap.steady_q16 >> 8));
+        ex -= late - div2n(late, 2);
+      }
+      const int32_t u = ap.steady_q16 + ((ex * gain) >> 8);  // |ex·gain| ≤ 51,200 · 40,000 < 2^31
+      if (u < kFull && ap.landed == 0) ap.landed = 1;
       duty_q16_ = clamp_duty(u);
       ap.duty_avg_q16 += div2n(static_cast<int32_t>(duty_q16_) - ap.duty_avg_q16, 2);
       // (An untrusted model's P law may stall short of the target: the relay takes over nearer.)
@@ -847,7 +921,13 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // unit duty ≈ S·L̂ bounds the FOPDT excursion K·d·(1 − e^(−L/T))): 384·2^16 < 2^25.
       bias_q16_ = clamp_duty(ap.duty_avg_q16);
       d_q16_ = clamp_step((static_cast<uint32_t>(kAmplitudeQ8) << 16) / (static_cast<uint32_t>(slope_q8_) * horizon_bins_));
-      relay_hi_ = y_bin_q8_ < target_q8_;
+      // Settled on the target at the steady duty (the last L̂ + 2 bins within ±0.5 °C): the first
+      // half goes low, and the cycle from its end on is measured, for once that half has lasted
+      // L̂ the in-flight heat is the relay's own, as in any later cycle. Otherwise a settling
+      // cycle first (an approach that left by its crossings or its stall).
+      const bool settled = ap.settled_bins >= horizon_bins_ + 2;
+      settling_cycles_ = settled && !untrusted_ && (ap.landed == 1 || probe_.continuous) ? 0 : kSettlingCycles;
+      relay_hi_ = settling_cycles_ != 0 && y_bin_q8_ < target_q8_;
       half_ticks_ = 0;
       started_cycle_ = false;
       cycle_index_ = 0;
@@ -934,7 +1014,9 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
   // last switch cannot have shown in the reading sooner, so an earlier crossing is noise (at
   // σ 0.3–0.5 °C seed002's and fopdt-120-25's relays chattered in 3–9 s cycles, whose figures
   // drove d up: +10 to +22 °C). An untrusted L̂ (seed000: 250 s) is too uncertain to wait for.
-  const int32_t hl = untrusted_ ? 0 : horizon_ticks_ >> 1;
+  // (The first half after a settled approach lasts ≥ L̂: the first cycle's in-flight heat is
+  // then the low level's alone, as in any later cycle; seed002 at L̂/2: T 26.8 s against 24.)
+  const int32_t hl = untrusted_ ? 0 : (settling_cycles_ == 0 && !started_cycle_ ? horizon_ticks_ : horizon_ticks_ >> 1);
   const int32_t min_half = hl > kTicksPerBin ? hl : kTicksPerBin;
   if (relay_hi_) {
     if (yf < cyc_min_q8_) cyc_min_q8_ = yf;
@@ -983,7 +1065,7 @@ void Autotune::end_cycle(uint16_t t_lo) {
   cycle_.bias = static_cast<uint8_t>((uint32_t{bias_q16_} * 255 + 32768) >> 16);
   cycle_.d = static_cast<uint8_t>((uint32_t{d_q16_} * 255 + 32768) >> 16);
   ++cycle_index_;
-  if (cycle_index_ > kSettlingCycles) {
+  if (cycle_index_ > settling_cycles_) {
     // The first and last measured cycles' sums: the relay's drift between them (compute).
     if (first_ticks_ == 0) {
       first_dev_ = cyc_sum_dev_;
@@ -1022,7 +1104,7 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
   if (stage == 2) {
     ultimate_.tu_q8 = seconds_q8(period_ticks_);
     event_ = AutotuneEvent::kCycle;
-    if (cycle_index_ > kSettlingCycles) {
+    if (cycle_index_ > settling_cycles_) {
       event_ = AutotuneEvent::kUltimate;  // cycle_ is valid too
       ku_sum_q8_ += static_cast<uint32_t>(ultimate_.ku_q8);
       tu_sum_q8_ += static_cast<uint32_t>(ultimate_.tu_q8);
@@ -1040,12 +1122,16 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
     bias_q16_ = static_cast<uint16_t>(mean > kFull ? kFull : mean);
     return 4;
   }
-  // d towards ±1.5 °C: ≤ 2^16 · 384 < 2^25.
-  uint32_t d = uint32_t{d_q16_} * kAmplitudeQ8 / a;
-  if (d > 2u * d_q16_) d = 2u * d_q16_;
-  if (d < d_q16_ / 2u) d = d_q16_ / 2u;
-  d_q16_ = clamp_step(d);
-  if (cycle_index_ >= kSettlingCycles + nofan_measure_) {
+  // d towards ±1.5 °C: ≤ 2^16 · 384 < 2^25. Not once the measuring began without a settling
+  // cycle: the next cycle's levels must be this one's, or its start is not the periodic one
+  // the T/L formulas read (seed002, one noise realisation: T 28.0 s against 24).
+  if (settling_cycles_ != 0) {
+    uint32_t d = uint32_t{d_q16_} * kAmplitudeQ8 / a;
+    if (d > 2u * d_q16_) d = 2u * d_q16_;
+    if (d < d_q16_ / 2u) d = d_q16_ / 2u;
+    d_q16_ = clamp_step(d);
+  }
+  if (cycle_index_ >= settling_cycles_ + nofan_measure_) {
     stage_ = 0;  // the relay's bin stages (if any) do not belong to the next phase
     inv_t_nofan_q16_ = inv_t_q16_;  // the relay's drift correction (compute), with or without F
     if (measure_fan_) {

@@ -17,11 +17,16 @@
 //             the loss rate 1/T
 //   approach  Smith predictor (FOPDT model S, L̂, 1/T, anchored to the reading) with a P law
 //             around the model's steady duty; 1/T learnt on line (slope decline at full power,
-//             model-vs-reading slope when the duty is steady); then the fan part starts here too
+//             model-vs-reading slope when the duty is steady); then the fan part starts here too.
+//             After a cold cut probe with a sharp peak (L̂ to the tick, the predictor's delay
+//             interpolated between bins): deadbeat (full power until the undelayed model is a
+//             bin's heat from the target), then twice the slow law's gain
 //   relay     biased relay (levels bias ± d, hysteresis ±0.2 °C on a 4-reading mean, wider on a
 //             noisy sensor; with a trusted model no half shorter than L̂/2) around the
 //             target; bias = last cycle's mean duty, d for ±1.5 °C, a drifting relay re-biased
-//             from its drift; one settling cycle, then max(2, C − 3) measured
+//             from its drift; one settling cycle, then max(2, C − 3) measured. No settling cycle
+//             after an approach that settled (deadbeat or lag-type): a first low half ≥ L̂, and d
+//             kept from then on
 //   fan step  part fan at 100 %, the heater held open loop at the last relay cycle's mean duty
 //             (the reading can only fall); from L̂ + 2 bins on (2 L̂ + 2 lag-type) a window of
 //             ⌈C/2⌉ × (L̂/2 + 4) bins, ended once the reading fell 8 °C: its mean rise and its
@@ -179,6 +184,8 @@ class Autotune {
   uint32_t ticks_from_s(uint16_t s) const;
   static uint32_t clamp_half_ticks(uint32_t ticks);
   int32_t model_ago(uint8_t bins) const;
+  int32_t model_delayed() const;
+  bool sharp_peak() const;
   int32_t slope4_q8() const;
   void push_bin(int16_t model_entry);
   int32_t heat_q8(uint16_t duty_q8) const;
@@ -277,7 +284,9 @@ class Autotune {
     uint16_t peak_bin;
     bool peaked;
     int32_t y_peak_q8;
+    int32_t y_after_q8;     // the bin after the peak's
     uint8_t retries;
+    uint16_t max_tick;       // probe tick of the highest reading after the cut (0: a flat peak)
     int32_t slope_rise_q8;   // rise at the centre of the steepest heat-up window (cut probe: its smoothed peak)
   };
   Probe probe_ = {};
@@ -298,6 +307,7 @@ class Autotune {
     int32_t steady_q16;      // ū: steady duty estimate (integral part)
     uint8_t settled_bins;
     uint8_t near_bins;       // bins within 2 °C of the target (a stalled approach)
+    uint8_t landed;          // 0 deadbeat (trusted cut probe's first approach), 1 landed, 2 the slow law
     int32_t ref_rise_q8;
     int32_t ref_slope_q8;     // loss learning: rise where the slope S was measured
     uint8_t full_bins;       // consecutive bins at 100 % in the approach
@@ -329,6 +339,7 @@ class Autotune {
   int32_t cyc_a_q8_ = 0;         // ... its half amplitude
   uint32_t cyc_duty_done_ = 0;   // ... its Σ duty
   uint8_t cycle_index_ = 0;     // completed relay cycles (the settling one included)
+  uint8_t settling_cycles_ = 0;  // relay cycles before the measured ones (0: the approach settled)
   uint8_t nofan_measure_ = 0;
   uint16_t inv_t_nofan_q16_ = 0;  // 1/T before the fan came on
   uint16_t fan_span_ = 0;         // the fan step's window: bins from its first to its last

@@ -292,18 +292,51 @@ TEST_F(AutotunePlants, DurationTargets) {
   }
 }
 
+// The probe → approach → relay part on the FOPDT dead-time plants: on those whose cut probe
+// peaks sharply (seed002, seed004) the loss rate from the decay after the peak's bin within 3 %
+// (from the peak's own bin, which rounds a sharp peak off, seed004 read 1/T 22 % low and its
+// approach stalled 25 °C short); on those and on fopdt-120-25 (a flat peak as late after the cut
+// as the response after the pulse's start) the deadbeat approach on the aligned predictor settled
+// for the relay within the full-power heat-up + 4.5 L after the probe (the slow law took 151,
+// 158 and 343 s: 7–14 L).
+TEST(AutotuneApproach, FopdtDeadTimePlantsLandWithinHeatupPlusFourAndAHalfL) {
+  for (const Plant& p : plants()) {
+    if (p.name != "seed002" && p.name != "seed004" && p.name != "fopdt-120-25") continue;
+    design::PlantSim sim(p.model);
+    sim.set_noise(0.1);
+    Autotune at;
+    at.configure(128);
+    ASSERT_TRUE(at.start(static_cast<int32_t>(p.target_c * 256), 5, true));
+    while (at.phase() != Autotune::Phase::kApproach && at.state() == AutotuneState::kRunning) {
+      const control::AutotuneOutput out = at.step(static_cast<int32_t>(std::lround(sim.measured_c() * 256)));
+      sim.run(out.duty_q16 / 65535.0, kPeriodS);
+    }
+    const double inv_t = at.inv_t_q16() / 65536.0, inv_t_true = Autotune::kTicksPerBin * kPeriodS / p.t;
+    std::printf("%-8s 1/T per bin %.5f (true %.5f)\n", p.name.c_str(), inv_t, inv_t_true);
+    if (p.name != "fopdt-120-25") {  // (its decay after the peak: < 1 °C, the loss unknown)
+      EXPECT_NEAR(inv_t, inv_t_true, 0.03 * inv_t_true) << p.name;
+    }
+    const TuneRun r = run(p, 5, true, 0.1, false, 1.0, -1, false, 1800);
+    std::printf("%-8s approach %.1f s, relay %.1f s: %.1f s (heat-up %.1f + 4.5 L %.1f)\n", p.name.c_str(), r.approach_s,
+                r.relay_s, r.relay_s - r.approach_s, r.heatup_s, 4.5 * p.l);
+    EXPECT_LE(r.relay_s - r.approach_s, r.heatup_s + 4.5 * p.l) << p.name;
+    EXPECT_LE(r.max_c, p.target_c + 2.0) << p.name;
+  }
+}
+
 // M303's default effort (C5, F1): the tune's duration per plant against issue 7's target (≤ 4 min
 // on hotend40w-class plants, ≤ the full-power heat-up + 3 min elsewhere, 2 × that on seed000).
 // Where it is met, the target is asserted; elsewhere a ceiling ~10 % above the figure measured
 // when the fan part became an open-loop step (relay-only tune before, s: seed002 918, seed004
 // 904, seed003 379, fopdt-300-10 746, fopdt-120-25 1378, heavy-slow 2281, two-node-delay5 975,
 // seed000-4 5196, seed000-5 4407; with the closed-loop fan hold: 634, 616, 324, 565, 986, 1896,
-// 781, 2446, 2803; with the fan step: 453, 446, 266, 516, 766, 1589, 681, 2344, 2540), so a
-// slower tune fails here.
+// 781, 2446, 2803; with the fan step: 453, 446, 266, 516, 766, 1589, 681, 2344, 2540; with the
+// deadbeat approach and no settling cycle after it too: seed002 335, seed004 336, fopdt-300-10 488,
+// fopdt-120-25 627, the rest unchanged), so a slower tune fails here.
 TEST(AutotuneDuration, DefaultEffortC5PerPlant) {
   const std::map<std::string, double> ceiling = {
-      {"seed002", 500},      {"seed004", 490},       {"seed003", 295},       {"fopdt-300-10", 570},
-      {"fopdt-120-25", 845}, {"heavy-slow", 1750},  {"two-node-delay5", 750}, {"seed000-4", 2580},
+      {"seed002", 370},      {"seed004", 370},       {"seed003", 295},       {"fopdt-300-10", 540},
+      {"fopdt-120-25", 690}, {"heavy-slow", 1750},  {"two-node-delay5", 750}, {"seed000-4", 2580},
       {"seed000-5", 2795}};
   std::printf("%-16s %7s %7s %6s\n", "plant", "tune s", "target", "max-S");
   for (const Plant& p : plants()) {
@@ -488,7 +521,8 @@ TEST(Autotune, ReportsMarlinCycleLinesAndKuTu) {
     sim.run(out.duty_q16 / 65535.0, kPeriodS);
   }
   EXPECT_EQ(at.state(), AutotuneState::kFinished);
-  EXPECT_EQ(cycles, 3);
+  // C3: two measured cycles; the approach settles on the target, so no settling cycle before.
+  EXPECT_EQ(cycles, 2);
   EXPECT_GT(q8(at.result().ultimate.tu_q8), 5.0);
   EXPECT_FALSE(at.result().hot_start);
   EXPECT_NEAR(q8(at.result().ambient_q8), 25.0, 0.1);

@@ -10,6 +10,9 @@ constexpr int32_t kDefaultTargetQ8 = 210L * 256;  // Marlin's M303 default is th
                                                   // issue 7 asks for a printing temperature
 constexpr int32_t kDefaultCycles = 5;
 
+// Marlin's failure prefix, one copy in flash for the two reports that start with it.
+const gcode::FlashText* failed_text() { return GCODE_TEXT("PID Autotune failed! "); }
+
 // The three gains after their labels: " Kp: 1.00 Ki: …" (Marlin's line) or " P1.00 I…" (M301).
 // (Labels as separate arguments: GCODE_TEXT in an array initializer crashes avr-gcc 5.4's LTO.)
 void write_gains(gcode::Output& out, const gcode::FlashText* p, const gcode::FlashText* i, const gcode::FlashText* d,
@@ -180,7 +183,7 @@ bool AutotuneJob::report(gcode::Output& out, const HandOver& now) {
 }
 
 void AutotuneJob::write_failure(gcode::Output& out) const {
-  out.print(GCODE_TEXT("PID Autotune failed! "));
+  out.print(failed_text());
   switch (tune_.failure()) {
     case control::AutotuneFailure::kTooHot: out.print(GCODE_TEXT("Temperature too high")); break;
     case control::AutotuneFailure::kTimeout: out.print(GCODE_TEXT("timeout")); break;
@@ -202,7 +205,8 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   const control::AutotuneResult& r = tune_.result();
   control::TunedDesign d;
   if (!control::design_from_tune(r, kControlPeriodMs, &d)) {
-    out.print(GCODE_TEXT("PID Autotune failed! Identified model outside the usable range: "));
+    out.print(failed_text());
+    out.print(GCODE_TEXT("Identified model outside the usable range: "));
     write_m307(out, r.model);
     return;
   }

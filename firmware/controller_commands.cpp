@@ -9,6 +9,9 @@
 namespace firmware {
 namespace {
 
+// The start of the settings echoes, one copy in flash for its five senders.
+const gcode::FlashText* echo_text() { return GCODE_TEXT("echo:"); }
+
 void write_refusal(gcode::Output& out, const gcode::FlashText* reason) {
   if (reason != nullptr) out.error_line(reason);
 }
@@ -129,19 +132,19 @@ __attribute__((noinline)) bool ControllerCommands::handle(const gcode::Command& 
 
 void ControllerCommands::model(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
   if (edit_settings(bank_, cmd, out, now, kModelParams, count_of(kModelParams), true)) return;
-  out.print(GCODE_TEXT("echo:"));
+  out.print(echo_text());
   write_model(out);
 }
 
 void ControllerCommands::select(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
   if (edit_settings(bank_, cmd, out, now, kSelectParams, count_of(kSelectParams), false)) return;
-  out.print(GCODE_TEXT("echo:"));
+  out.print(echo_text());
   write_selection(out);
 }
 
 // noinline: LTO inlined it into more than one caller (172 B of AVR flash as a call).
 __attribute__((noinline)) void ControllerCommands::upload(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
-  if (*cmd.params == '\0') return write_upload(out, GCODE_TEXT("echo:"));
+  if (*cmd.params == '\0') return write_upload(out, echo_text());
   if (bank_.autotuning()) return out.error_line(autotune_busy_text());  // (the machine refuses it first)
   control::StateFeedbackConstants& staging = bank_.sf_staging();
   int32_t commit = 0;
@@ -187,7 +190,7 @@ __attribute__((noinline)) void ControllerCommands::upload(const gcode::Command& 
 
 void ControllerCommands::fuzzy(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
   if (edit_settings(bank_, cmd, out, now, kFuzzyParams, count_of(kFuzzyParams), false)) return;
-  out.print(GCODE_TEXT("echo:"));
+  out.print(echo_text());
   write_fuzzy(out);
 }
 
@@ -199,7 +202,7 @@ void ControllerCommands::sync_staging() { bank_.sync_staging(); }
 // model that M303 left on the wide margin (hot start, lag-dominated) there. All checked first.
 void ControllerCommands::protection(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
   if (edit_settings(bank_, cmd, out, now, kProtectionParams, count_of(kProtectionParams), false)) return;
-  out.print(GCODE_TEXT("echo:"));
+  out.print(echo_text());
   write_protection(out);
 }
 

@@ -36,8 +36,8 @@ struct Command {
   }
   // Prints "Error:M104: missing S" and returns false when `p` is absent.
   bool require(char p, Output& out) const;
-  // "M104" — for error lines.
-  void write_name(Output& out) const;
+  // "Error:M104" — the start of its error lines.
+  void begin_error(Output& out) const;
   // The number token of parameter `p` (first occurrence), nullptr if absent.
   const char* find(char p) const;
 };

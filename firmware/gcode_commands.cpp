@@ -121,8 +121,7 @@ void Interpreter::nothing(const Command&) {}
 
 void Interpreter::select_tool(const Command& cmd) {
   if (cmd.code == 0) return;  // slicers emit T0; there is one hotend
-  out_.print(GCODE_TEXT("Error:"));
-  cmd.write_name(out_);
+  cmd.begin_error(out_);
   out_.print(GCODE_TEXT(": only T0 exists\n"));
 }
 

@@ -78,8 +78,10 @@ void Output::write_exact(int32_t value, uint8_t frac_bits) {
   write_fixed(value, frac_bits, decimals);
 }
 
+void Output::begin_error() { print(GCODE_TEXT("Error:")); }
+
 void Output::error_line(const FlashText* reason) {
-  print(GCODE_TEXT("Error:"));
+  begin_error();
   print(reason);
   end_line();
 }

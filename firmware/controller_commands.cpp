@@ -12,10 +12,6 @@ namespace {
 // The start of the settings echoes, one copy in flash for its five senders.
 const gcode::FlashText* echo_text() { return GCODE_TEXT("echo:"); }
 
-void write_refusal(gcode::Output& out, const gcode::FlashText* reason) {
-  if (reason != nullptr) out.error_line(reason);
-}
-
 // value / 2^frac_bits with the fewest decimals (2..4) that parse back to the same value, so
 // that the default factors read "0.40" and "0.60" while any other value still round-trips.
 // Report-time only: the divisions are not in the control step.
@@ -103,7 +99,7 @@ bool edit_settings(ControllerBank& bank, const gcode::Command& cmd, gcode::Outpu
   }
   if (!given) return false;
   if (model_measured) next.model_tuned = 1;  // the host vouches for it: the model check gets tight (M570 T)
-  write_refusal(out, bank.apply(next, now));
+  out.refusal_line(bank.apply(next, now));
   return true;
 }
 
@@ -170,7 +166,7 @@ __attribute__((noinline)) void ControllerCommands::upload(const gcode::Command& 
         }
         int32_t lo, hi, value;
         control::sf_field_range(field.type, &lo, &hi);
-        if (!cmd.integer(letter, lo, hi, &value, out)) return;
+        if (!cmd.fixed(letter, 0, lo, hi, &value, out)) return;
         if (pass == 1) {
           previous[j] = control::sf_get(field);
           control::sf_set(field, value);

@@ -87,6 +87,10 @@ bool Command::fixed(char p, uint8_t frac_bits, int32_t lo, int32_t hi, int32_t* 
   return false;
 }
 
+__attribute__((noinline)) bool Command::integer(char p, int16_t lo, int16_t hi, int32_t* value, Output& out) const {
+  return fixed(p, 0, lo, hi, value, out);
+}
+
 bool Command::require(char p, Output& out) const {
   if (has(p)) return true;
   begin_error(out);

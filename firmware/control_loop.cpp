@@ -61,7 +61,8 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
   airflow_.step(hal::fan_pwm::duty());
 }
 
-void ControlLoop::set_fan_duty(uint8_t duty) {
+// noinline: LTO inlined it into both of the machine's callers (M106/M107 and the tune's end).
+__attribute__((noinline)) void ControlLoop::set_fan_duty(uint8_t duty) {
   hal::fan_pwm::set_duty(duty);
   airflow_.retarget(duty);
 }

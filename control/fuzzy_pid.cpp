@@ -61,7 +61,8 @@ __attribute__((always_inline)) inline void schedule(const fixed::Multiplier& bas
   }
 }
 
-bool scale_ok(int32_t base_q16, int32_t scale_q16) {
+// noinline: valid() checks three pairs (12 B of AVR flash as calls).
+__attribute__((noinline)) bool scale_ok(int32_t base_q16, int32_t scale_q16) {
   return base_q16 >= 0 && base_q16 <= Pid::kMaxKdQ16 && scale_q16 >= 0 && scale_q16 <= kMaxScaleQ16;
 }
 

@@ -8,8 +8,7 @@ namespace gcode {
 
 inline bool is_blank(char c) { return c == ' ' || c == '\0'; }
 inline bool is_digit(char c) { return c >= '0' && c <= '9'; }
-// noinline: four inlined copies in the parser cost more AVR flash than calls.
-__attribute__((noinline)) inline char to_upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 32) : c; }
+inline char to_upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 32) : c; }
 
 // True if the token at `s` is [+-](digits[.[digits]] | .digits).
 bool number_valid(const char* s);

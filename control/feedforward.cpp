@@ -1,5 +1,7 @@
 #include "control/feedforward.h"
 
+#include <string.h>
+
 namespace control {
 namespace {
 
@@ -26,6 +28,11 @@ bool hotend_model_valid(const HotendModel& m) {
          m.dead_time_q8 >= 0 && m.dead_time_q8 <= kModelMaxDeadTimeQ8 && m.fan_loss_pct_q8 >= 0 &&
          m.fan_loss_pct_q8 <= kModelMaxFanLossPctQ8;
 }
+
+// Four int32 fields and no padding, so bytewise equality is fieldwise equality; memcmp is a
+// smaller loop on AVR than four 32-bit compares.
+static_assert(sizeof(HotendModel) == 4 * sizeof(int32_t), "HotendModel: four int32 fields, no padding");
+bool same_model(const HotendModel& a, const HotendModel& b) { return memcmp(&a, &b, sizeof(HotendModel)) == 0; }
 
 void Feedforward::configure(const HotendModel& m) {
   // 65535 / A_q8 ≤ 25.6 for A ≥ 10 °C: whole ≤ 25, so 76,800 · 26 < 2^30.

@@ -39,6 +39,8 @@ constexpr HotendModel kHotend40wModel{fixed::from_double(40.0 / 0.068, 8), fixed
                                       fixed::from_double((0.097 / 0.068 - 1.0) * 100.0, 8)};
 
 bool hotend_model_valid(const HotendModel& model);
+// a == b, field by field (one copy for the bank's and the protection's change checks).
+bool same_model(const HotendModel& a, const HotendModel& b);
 
 class Feedforward {
  public:

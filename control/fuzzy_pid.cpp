@@ -22,6 +22,13 @@ int32_t scaled_gain_q16(int32_t scale_q16, uint16_t delta_q8) {
   return fixed::mul_q16(scale_q16, static_cast<uint16_t>(delta_q8 << 6)) * 4;
 }
 
+// The largest gains the schedule reaches (Δ = 3): base + 3·scale. noinline: valid() and
+// configure() each had the three sums inlined.
+__attribute__((noinline)) PidGains top_gains(const FuzzyPidConfig& c) {
+  return PidGains{c.base.kp_q16 + 3 * c.scale.kp_q16, c.base.ki_q16 + 3 * c.scale.ki_q16,
+                  c.base.kd_q16 + 3 * c.scale.kd_q16};
+}
+
 // ec per measurement change per period: ec_factor · 1000 / period_ms (Q12), or 0 if too large.
 uint32_t ec_gain_q12(uint16_t ec_factor_q12, uint16_t period_ms) {
   return period_ms == 0 ? 0 : (uint32_t{ec_factor_q12} * 1000u + period_ms / 2) / period_ms;
@@ -54,7 +61,8 @@ __attribute__((always_inline)) inline void schedule(const fixed::Multiplier& bas
   }
 }
 
-bool scale_ok(int32_t base_q16, int32_t scale_q16) {
+// noinline: valid() checks three pairs (12 B of AVR flash as calls).
+__attribute__((noinline)) bool scale_ok(int32_t base_q16, int32_t scale_q16) {
   return base_q16 >= 0 && base_q16 <= Pid::kMaxKdQ16 && scale_q16 >= 0 && scale_q16 <= kMaxScaleQ16;
 }
 
@@ -68,8 +76,7 @@ bool FuzzyPid::valid(const FuzzyPidConfig& c, uint16_t period_ms) {
   if (!scale_ok(c.base.kp_q16, c.scale.kp_q16) || !scale_ok(c.base.ki_q16, c.scale.ki_q16) ||
       !scale_ok(c.base.kd_q16, c.scale.kd_q16))
     return false;
-  const PidGains top{c.base.kp_q16 + 3 * c.scale.kp_q16, c.base.ki_q16 + 3 * c.scale.ki_q16,
-                     c.base.kd_q16 + 3 * c.scale.kd_q16};
+  const PidGains top = top_gains(c);
   const uint32_t ec_gain = ec_gain_q12(c.ec_factor_q12, period_ms);
   if (!Pid::valid(top, period_ms) || c.e_factor_q12 < kMinEFactorQ12 || ec_gain == 0 || ec_gain > 0xFFFF) return false;
   const PidCoefficients s = Pid::coefficients(c.scale, period_ms);
@@ -83,9 +90,7 @@ void FuzzyPid::configure(const FuzzyPidConfig& config, uint16_t period_ms) {
   e_limit_q8_ = static_cast<int32_t>((uint32_t{fuzzy::kUniverseMaxQ8} << 12) / config.e_factor_q12 + 1);
   // The PID's overflow clamps are computed for the largest gains the schedule reaches;
   // step() then sets the scheduled coefficients (capped there) before each use.
-  const PidGains top{config.base.kp_q16 + 3 * config.scale.kp_q16, config.base.ki_q16 + 3 * config.scale.ki_q16,
-                     config.base.kd_q16 + 3 * config.scale.kd_q16};
-  pid_.configure(top, period_ms);
+  pid_.configure(top_gains(config), period_ms);
   base_c_ = Pid::coefficients(config.base, period_ms);
   scale_c_ = Pid::coefficients(config.scale, period_ms);
   // Until the supervisor has run: the nominal gains (the middle of the schedule, Δ = 1.5).

@@ -33,6 +33,12 @@ bool representable(int32_t gain_q16, fixed::Multiplier m) {
   return gain_q16 == 0 || m.whole > 0 || m.frac_q16 >= 0x8000;
 }
 
+// The three multipliers before without_small_fraction. noinline: valid() and coefficients()
+// each had the three conversions inlined.
+__attribute__((noinline)) PidCoefficients exact_coefficients(const PidGains& g, uint16_t period_ms) {
+  return PidCoefficients{kp_multiplier(g.kp_q16), ki_multiplier(g.ki_q16, period_ms), kd_multiplier(g.kd_q16, period_ms)};
+}
+
 // Largest |x| with |x|·(m.whole + 1) ≤ bound (the precondition of fixed::mul_round).
 __attribute__((noinline)) int32_t input_limit(uint32_t bound, fixed::Multiplier m) {
   return static_cast<int32_t>(bound / (m.whole + 1));
@@ -44,15 +50,14 @@ bool Pid::valid(const PidGains& g, uint16_t period_ms) {
   if (period_ms < kMinPeriodMs || period_ms > kMaxPeriodMs) return false;
   if (g.kp_q16 < 0 || g.ki_q16 < 0 || g.kd_q16 < 0) return false;
   if (g.kp_q16 > kMaxKpQ16 || g.ki_q16 > kMaxKiQ16 || g.kd_q16 > kMaxKdQ16) return false;
-  return representable(g.kp_q16, kp_multiplier(g.kp_q16)) &&
-         representable(g.ki_q16, ki_multiplier(g.ki_q16, period_ms)) &&
-         representable(g.kd_q16, kd_multiplier(g.kd_q16, period_ms));
+  const PidCoefficients m = exact_coefficients(g, period_ms);
+  return representable(g.kp_q16, m.kp) && representable(g.ki_q16, m.ki) && representable(g.kd_q16, m.kd);
 }
 
 PidCoefficients Pid::coefficients(const PidGains& gains, uint16_t period_ms) {
-  return PidCoefficients{fixed::without_small_fraction(kp_multiplier(gains.kp_q16)),
-                         fixed::without_small_fraction(ki_multiplier(gains.ki_q16, period_ms)),
-                         fixed::without_small_fraction(kd_multiplier(gains.kd_q16, period_ms))};
+  const PidCoefficients m = exact_coefficients(gains, period_ms);
+  return PidCoefficients{fixed::without_small_fraction(m.kp), fixed::without_small_fraction(m.ki),
+                         fixed::without_small_fraction(m.kd)};
 }
 
 // noinline: LTO inlined it into configure() and the fuzzy step (with input_limit: 132 B of AVR

@@ -102,11 +102,16 @@ constexpr int32_t kSfMaxAmbientQ8 = 300L * 256;
 //    designs reach 2.95 at the corners of M307's ranges (long decimated law periods).
 // host_tests/ubsan_state_feedback_limits.cpp runs the law at these limits against a 64-bit
 // reference under UBSan.
+// |m| (≤ 2^15). noinline: four inlined copies in the row check cost more AVR flash than calls.
+__attribute__((noinline)) inline uint32_t state_feedback_magnitude(int16_t m) {
+  return static_cast<uint32_t>(m < 0 ? -static_cast<int32_t>(m) : m);
+}
+
 inline bool state_feedback_row_fits(const StateFeedbackConstants& k, uint8_t i) {
   const uint8_t shift = k.phi_shift[i];
   if (shift >= 14) return true;
-  auto mag = [](int16_t m) { return static_cast<uint32_t>(m < 0 ? -static_cast<int32_t>(m) : m); };
-  const uint32_t sum = mag(k.phi_diag[i]) + mag(k.phi_off[i]) + mag(k.gamma_a[i]) + mag(k.gamma_b[i]);
+  const uint32_t sum = state_feedback_magnitude(k.phi_diag[i]) + state_feedback_magnitude(k.phi_off[i]) +
+                       state_feedback_magnitude(k.gamma_a[i]) + state_feedback_magnitude(k.gamma_b[i]);
   return sum <= (1UL << (shift + 3));
 }
 

@@ -61,7 +61,8 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
   airflow_.step(hal::fan_pwm::duty());
 }
 
-void ControlLoop::set_fan_duty(uint8_t duty) {
+// noinline: LTO inlined it into both of the machine's callers (M106/M107 and the tune's end).
+__attribute__((noinline)) void ControlLoop::set_fan_duty(uint8_t duty) {
   hal::fan_pwm::set_duty(duty);
   airflow_.retarget(duty);
 }
@@ -88,11 +89,7 @@ void ControlLoop::sync_protection(const Settings& s) {
   const uint8_t threshold_c = s.model_tuned ? s.protect_tuned_c : s.protect_default_c;
   watch_.set_window_periods(static_cast<uint16_t>(uint32_t{s.watch_period_s} * 1000u / kControlPeriodMs));
   const control::HotendModel& m = s.model;
-  if (check_tuned_ == s.model_tuned && check_threshold_c_ == threshold_c && m.rise_q8 == check_model_.rise_q8 &&
-      m.time_constant_q8 == check_model_.time_constant_q8 && m.dead_time_q8 == check_model_.dead_time_q8 &&
-      m.fan_loss_pct_q8 == check_model_.fan_loss_pct_q8) {
-    return;
-  }
+  if (check_tuned_ == s.model_tuned && check_threshold_c_ == threshold_c && control::same_model(m, check_model_)) return;
   check_.configure(m, s.model_tuned != 0, int32_t{threshold_c} << 8, kControlPeriodMs);
   check_model_ = m;
   check_tuned_ = s.model_tuned;

@@ -10,6 +10,12 @@ constexpr int32_t kDefaultTargetQ8 = 210L * 256;  // Marlin's M303 default is th
                                                   // issue 7 asks for a printing temperature
 constexpr int32_t kDefaultCycles = 5;
 
+// "echo:Autotune ", which starts this firmware's own report lines (one copy in flash).
+const gcode::FlashText* echo_autotune_text() { return GCODE_TEXT("echo:Autotune "); }
+
+// Marlin's failure prefix, one copy in flash for the two reports that start with it.
+const gcode::FlashText* failed_text() { return GCODE_TEXT("PID Autotune failed! "); }
+
 // The three gains after their labels: " Kp: 1.00 Ki: …" (Marlin's line) or " P1.00 I…" (M301).
 // (Labels as separate arguments: GCODE_TEXT in an array initializer crashes avr-gcc 5.4's LTO.)
 void write_gains(gcode::Output& out, const gcode::FlashText* p, const gcode::FlashText* i, const gcode::FlashText* d,
@@ -41,15 +47,24 @@ __attribute__((noinline)) void write_design(gcode::Output& out, const control::A
   write_gain_line(out, GCODE_TEXT("Kp"), d.pid.kp_q16);
   write_gain_line(out, GCODE_TEXT("Ki"), d.pid.ki_q16);
   write_gain_line(out, GCODE_TEXT("Kd"), d.pid.kd_q16);
-  out.print(r.hot_start ? GCODE_TEXT("echo:Autotune model (hot start: cool-down, relay")
-                        : GCODE_TEXT("echo:Autotune model (cold start: heat-up, relay"));
+  out.print(echo_autotune_text());
+  out.print(r.hot_start ? GCODE_TEXT("model (hot start: cool-down, relay")
+                        : GCODE_TEXT("model (cold start: heat-up, relay"));
   out.print(r.model.fan_loss_pct_q8 != 0 ? GCODE_TEXT(", part fan): ") : GCODE_TEXT("): "));
   write_m307(out, r.model);
-  out.print(GCODE_TEXT("echo:Autotune PID (SIMC PI on that model, dead time "));
+  out.print(echo_autotune_text());
+  out.print(GCODE_TEXT("PID (SIMC PI on that model, dead time "));
   out.write_q8(d.model.dead_time_q8);
   out.print(GCODE_TEXT(" s): M301"));
   write_gains(out, GCODE_TEXT(" P"), GCODE_TEXT(" I"), GCODE_TEXT(" D"), d.pid);
   out.end_line();
+}
+
+// The controller M303 picks: `rest` completes "M310 S1 (state feedback" (its three variants
+// share that text) or, without state feedback, is the whole M310 S0 text.
+void write_choice(gcode::Output& out, bool state_feedback, const gcode::FlashText* rest) {
+  if (state_feedback) out.print(GCODE_TEXT("M310 S1 (state feedback"));
+  out.print(rest);
 }
 
 // The board's state-feedback design in one line (nullptr: it failed); for the two-lag law its
@@ -57,10 +72,12 @@ __attribute__((noinline)) void write_design(gcode::Output& out, const control::A
 __attribute__((noinline)) void write_sf_summary(gcode::Output& out, const control::StateFeedbackConstants* sf,
                                                 const control::TunedDesign& d) {
   if (sf == nullptr) {
-    out.print(GCODE_TEXT("echo:Autotune state feedback: this model is outside what the board designs\n"));
+    out.print(echo_autotune_text());
+    out.print(GCODE_TEXT("state feedback: this model is outside what the board designs\n"));
     return;
   }
-  out.print(GCODE_TEXT("echo:Autotune state feedback designed: "));
+  out.print(echo_autotune_text());
+  out.print(GCODE_TEXT("state feedback designed: "));
   if (d.two_lags) {
     out.print(GCODE_TEXT("two lags "));
     out.write_q8(d.model.time_constant_q8);
@@ -180,7 +197,7 @@ bool AutotuneJob::report(gcode::Output& out, const HandOver& now) {
 }
 
 void AutotuneJob::write_failure(gcode::Output& out) const {
-  out.print(GCODE_TEXT("PID Autotune failed! "));
+  out.print(failed_text());
   switch (tune_.failure()) {
     case control::AutotuneFailure::kTooHot: out.print(GCODE_TEXT("Temperature too high")); break;
     case control::AutotuneFailure::kTimeout: out.print(GCODE_TEXT("timeout")); break;
@@ -202,7 +219,8 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   const control::AutotuneResult& r = tune_.result();
   control::TunedDesign d;
   if (!control::design_from_tune(r, kControlPeriodMs, &d)) {
-    out.print(GCODE_TEXT("PID Autotune failed! Identified model outside the usable range: "));
+    out.print(failed_text());
+    out.print(GCODE_TEXT("Identified model outside the usable range: "));
     write_m307(out, r.model);
     return;
   }
@@ -217,12 +235,13 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   // "paced": designed no faster than D; "two lags": from C and D as two lags (hotend-sim's
   // check of the board's M311 reads both).
   const gcode::FlashText* choice = !use_sf      ? GCODE_TEXT("M310 S0 F1 (PID following the model's heat-up), ")
-                                   : d.two_lags  ? GCODE_TEXT("M310 S1 (state feedback, two lags C and D), ")
-                                   : d.lag_paced ? GCODE_TEXT("M310 S1 (state feedback, paced by D), ")
-                                                 : GCODE_TEXT("M310 S1 (state feedback), ");
+                                   : d.two_lags  ? GCODE_TEXT(", two lags C and D), ")
+                                   : d.lag_paced ? GCODE_TEXT(", paced by D), ")
+                                                 : GCODE_TEXT("), ");
   if (!apply_) {
-    out.print(GCODE_TEXT("echo:Autotune not applied (U0); U1 would set the M301 above, "));
-    out.print(choice);
+    out.print(echo_autotune_text());
+    out.print(GCODE_TEXT("not applied (U0); U1 would set the M301 above, "));
+    write_choice(out, use_sf, choice);
     write_m307(out, d.model);
     return;
   }
@@ -238,8 +257,9 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   }
   if (const gcode::FlashText* refusal = bank_.apply(next, now)) return out.error_line(refusal);
   bank_.end_autotune();  // built from `next` (the lines below let a due control step run first)
-  out.print(GCODE_TEXT("echo:Autotune applied (U1): "));
-  out.print(choice);
+  out.print(echo_autotune_text());
+  out.print(GCODE_TEXT("applied (U1): "));
+  write_choice(out, use_sf, choice);
   write_m307(out, d.model);  // the design's dead time: see control/autotune_design.h
 }
 

@@ -1,5 +1,7 @@
 #include "firmware/controller_bank.h"
 
+#include <string.h>
+
 #include "firmware/placement_new.h"
 
 namespace firmware {
@@ -10,14 +12,10 @@ const gcode::FlashText* autotune_busy_text() {
 
 namespace {
 
-bool same_gains(const control::PidGains& a, const control::PidGains& b) {
-  return a.kp_q16 == b.kp_q16 && a.ki_q16 == b.ki_q16 && a.kd_q16 == b.kd_q16;
-}
-
-bool same_model(const control::HotendModel& a, const control::HotendModel& b) {
-  return a.rise_q8 == b.rise_q8 && a.time_constant_q8 == b.time_constant_q8 && a.dead_time_q8 == b.dead_time_q8 &&
-         a.fan_loss_pct_q8 == b.fan_loss_pct_q8;
-}
+// Three int32 fields and no padding: bytewise equality is fieldwise equality (memcmp is smaller
+// on AVR than three 32-bit compares).
+static_assert(sizeof(control::PidGains) == 3 * sizeof(int32_t), "PidGains: three int32 fields, no padding");
+bool same_gains(const control::PidGains& a, const control::PidGains& b) { return memcmp(&a, &b, sizeof(a)) == 0; }
 
 // The PID family's configuration changed (M301 or M312): each configure costs ~40,000 AVR
 // cycles per coefficient set, so it runs only then.
@@ -57,7 +55,7 @@ const gcode::FlashText* ControllerBank::refusal(const Settings& next, bool sf_av
 // While M303 has the storage, only the settings change: end_autotune() configures from them.
 void ControllerBank::commit(const Settings& next, const HandOver& now) {
   if (!autotuning_ && pid_family_changed(settings_, next)) configure_pid_family(next);
-  if (!same_model(settings_.model, next.model)) {
+  if (!control::same_model(settings_.model, next.model)) {
     feedforward_.configure(next.model);
     if (!autotuning_) reference().configure(next.model, kControlPeriodMs);
   }

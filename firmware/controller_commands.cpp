@@ -9,9 +9,8 @@
 namespace firmware {
 namespace {
 
-void write_refusal(gcode::Output& out, const gcode::FlashText* reason) {
-  if (reason != nullptr) out.error_line(reason);
-}
+// The start of the settings echoes, one copy in flash for its five senders.
+const gcode::FlashText* echo_text() { return GCODE_TEXT("echo:"); }
 
 // value / 2^frac_bits with the fewest decimals (2..4) that parse back to the same value, so
 // that the default factors read "0.40" and "0.60" while any other value still round-trips.
@@ -100,7 +99,7 @@ bool edit_settings(ControllerBank& bank, const gcode::Command& cmd, gcode::Outpu
   }
   if (!given) return false;
   if (model_measured) next.model_tuned = 1;  // the host vouches for it: the model check gets tight (M570 T)
-  write_refusal(out, bank.apply(next, now));
+  out.refusal_line(bank.apply(next, now));
   return true;
 }
 
@@ -129,19 +128,19 @@ __attribute__((noinline)) bool ControllerCommands::handle(const gcode::Command& 
 
 void ControllerCommands::model(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
   if (edit_settings(bank_, cmd, out, now, kModelParams, count_of(kModelParams), true)) return;
-  out.print(GCODE_TEXT("echo:"));
+  out.print(echo_text());
   write_model(out);
 }
 
 void ControllerCommands::select(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
   if (edit_settings(bank_, cmd, out, now, kSelectParams, count_of(kSelectParams), false)) return;
-  out.print(GCODE_TEXT("echo:"));
+  out.print(echo_text());
   write_selection(out);
 }
 
 // noinline: LTO inlined it into more than one caller (172 B of AVR flash as a call).
 __attribute__((noinline)) void ControllerCommands::upload(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
-  if (*cmd.params == '\0') return write_upload(out, GCODE_TEXT("echo:"));
+  if (*cmd.params == '\0') return write_upload(out, echo_text());
   if (bank_.autotuning()) return out.error_line(autotune_busy_text());  // (the machine refuses it first)
   control::StateFeedbackConstants& staging = bank_.sf_staging();
   int32_t commit = 0;
@@ -167,7 +166,7 @@ __attribute__((noinline)) void ControllerCommands::upload(const gcode::Command& 
         }
         int32_t lo, hi, value;
         control::sf_field_range(field.type, &lo, &hi);
-        if (!cmd.integer(letter, lo, hi, &value, out)) return;
+        if (!cmd.fixed(letter, 0, lo, hi, &value, out)) return;
         if (pass == 1) {
           previous[j] = control::sf_get(field);
           control::sf_set(field, value);
@@ -187,7 +186,7 @@ __attribute__((noinline)) void ControllerCommands::upload(const gcode::Command& 
 
 void ControllerCommands::fuzzy(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
   if (edit_settings(bank_, cmd, out, now, kFuzzyParams, count_of(kFuzzyParams), false)) return;
-  out.print(GCODE_TEXT("echo:"));
+  out.print(echo_text());
   write_fuzzy(out);
 }
 
@@ -199,7 +198,7 @@ void ControllerCommands::sync_staging() { bank_.sync_staging(); }
 // model that M303 left on the wide margin (hot start, lag-dominated) there. All checked first.
 void ControllerCommands::protection(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
   if (edit_settings(bank_, cmd, out, now, kProtectionParams, count_of(kProtectionParams), false)) return;
-  out.print(GCODE_TEXT("echo:"));
+  out.print(echo_text());
   write_protection(out);
 }
 

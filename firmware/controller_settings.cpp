@@ -1,5 +1,8 @@
 #include "firmware/controller_settings.h"
 
+#include "firmware/flash_copy.h"
+#include "firmware/gcode_text.h"
+
 namespace firmware {
 
 // Defaults for the hotend40w plant (E3D-V6 class: block 16.7 J/K, 40 W, loss 0.068 W/K,
@@ -13,7 +16,9 @@ namespace firmware {
 // The model (M307) is the same plant's (control::kHotend40wModel); the fuzzy-PID schedule
 // spreads ±50 % around the PID gains with seed 002's quantization (docs/fuzzy_pid.md).
 // Feedforward starts off, so a build without M310 behaves as issue 2's firmware did.
-Settings default_settings() {
+namespace {
+
+constexpr Settings make_default_settings() {
   Settings s{};
   s.pid = control::PidGains{34L << 16, 1L << 16, 100L << 16};
   s.model = control::kHotend40wModel;
@@ -28,6 +33,17 @@ Settings default_settings() {
   s.protect_tuned_c = 2;
   s.protect_default_c = 15;
   s.watch_period_s = 120;
+  return s;
+}
+
+// In flash, copied out at boot and on M502: the model needs no RAM copy (16 B of .data).
+const Settings kDefaultSettings GCODE_PROGMEM = make_default_settings();
+
+}  // namespace
+
+Settings default_settings() {
+  Settings s;
+  flash_copy(&s, &kDefaultSettings, sizeof s);
   return s;
 }
 

@@ -43,8 +43,7 @@ bool Command::valid(Output& out) const {
   for (const char* s = skip_blanks(params); *s != '\0';) {
     const char* token = s + 1;
     if (!is_letter(*s) || !number_valid(token)) {
-      out.print(GCODE_TEXT("Error:"));
-      write_name(out);
+      begin_error(out);
       out.print(GCODE_TEXT(": malformed parameter \""));
       while (!is_blank(*s)) out.write_char(*s++);
       out.write_char('"');
@@ -77,8 +76,7 @@ bool Command::fixed(char p, uint8_t frac_bits, int32_t lo, int32_t hi, int32_t* 
     *value = parsed;
     return true;
   }
-  out.print(GCODE_TEXT("Error:"));
-  write_name(out);
+  begin_error(out);
   out.write_char(' ');
   out.write_char(p);
   out.print(frac_bits == 0 ? GCODE_TEXT(" must be an integer in ") : GCODE_TEXT(" out of range "));
@@ -89,17 +87,21 @@ bool Command::fixed(char p, uint8_t frac_bits, int32_t lo, int32_t hi, int32_t* 
   return false;
 }
 
+__attribute__((noinline)) bool Command::integer(char p, int16_t lo, int16_t hi, int32_t* value, Output& out) const {
+  return fixed(p, 0, lo, hi, value, out);
+}
+
 bool Command::require(char p, Output& out) const {
   if (has(p)) return true;
-  out.print(GCODE_TEXT("Error:"));
-  write_name(out);
+  begin_error(out);
   out.print(GCODE_TEXT(": missing "));
   out.write_char(p);
   out.end_line();
   return false;
 }
 
-void Command::write_name(Output& out) const {
+void Command::begin_error(Output& out) const {
+  out.begin_error();
   out.write_char(letter);
   out.write_uint(code);
 }

@@ -31,13 +31,13 @@ struct Command {
   bool q16(char p, int32_t lo_q16, int32_t hi_q16, int32_t* value_q16, Output& out) const {
     return fixed(p, 16, lo_q16, hi_q16, value_q16, out);
   }
-  bool integer(char p, int32_t lo, int32_t hi, int32_t* value, Output& out) const {
-    return fixed(p, 0, lo, hi, value, out);
-  }
+  // fixed(p, 0, lo, hi, ...) for bounds within int16 (every integer parameter but line numbers and
+  // M311's fields): one call with narrower constants at each of its ~12 call sites.
+  bool integer(char p, int16_t lo, int16_t hi, int32_t* value, Output& out) const;
   // Prints "Error:M104: missing S" and returns false when `p` is absent.
   bool require(char p, Output& out) const;
-  // "M104" — for error lines.
-  void write_name(Output& out) const;
+  // "Error:M104" — the start of its error lines.
+  void begin_error(Output& out) const;
   // The number token of parameter `p` (first occurrence), nullptr if absent.
   const char* find(char p) const;
 };

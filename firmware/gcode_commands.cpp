@@ -7,10 +7,6 @@ namespace {
 
 constexpr int32_t kMaxGainQ16 = 32767l << 16;  // what a Q16 int32 holds (in whole units)
 
-void write_refusal(Output& out, const FlashText* reason) {
-  if (reason != nullptr) out.error_line(reason);
-}
-
 }  // namespace
 
 Interpreter::Handler Interpreter::handler_for(const Command& cmd) const {
@@ -48,7 +44,7 @@ bool Interpreter::read_target(const Command& cmd, char p, int32_t* target_q8) {
 void Interpreter::set_target(const Command& cmd) {
   int32_t target_q8 = 0;
   if (!cmd.require('S', out_) || !read_target(cmd, 'S', &target_q8)) return;
-  write_refusal(out_, machine_.set_target_q8(target_q8));
+  out_.refusal_line(machine_.set_target_q8(target_q8));
 }
 
 // M109 S waits only when heating (as in Marlin); M109 R waits for heating or cooling.
@@ -114,20 +110,19 @@ void Interpreter::fan_off(const Command&) { machine_.set_fan_duty(0); }
 
 void Interpreter::set_line_number(const Command& cmd) {
   // "N41 M110" already set last_line_ = 41 in process_line(); "M110 N41" sets it here.
-  cmd.integer('N', 0, kMaxLineNumber - 1, &last_line_, out_);
+  cmd.fixed('N', 0, 0, kMaxLineNumber - 1, &last_line_, out_);
 }
 
 void Interpreter::nothing(const Command&) {}
 
 void Interpreter::select_tool(const Command& cmd) {
   if (cmd.code == 0) return;  // slicers emit T0; there is one hotend
-  out_.print(GCODE_TEXT("Error:"));
-  cmd.write_name(out_);
+  cmd.begin_error(out_);
   out_.print(GCODE_TEXT(": only T0 exists\n"));
 }
 
 void Interpreter::hang(const Command&) { machine_.hang_for_watchdog(); }
 
-void Interpreter::clear_fault(const Command&) { write_refusal(out_, machine_.clear_fault()); }
+void Interpreter::clear_fault(const Command&) { out_.refusal_line(machine_.clear_fault()); }
 
 }  // namespace gcode

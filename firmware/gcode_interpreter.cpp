@@ -80,6 +80,9 @@ LineFrame frame_line(char* line) {
   return frame;
 }
 
+// The plain acknowledgement, one copy in flash for its four senders.
+const FlashText* ok_text() { return GCODE_TEXT("ok\n"); }
+
 bool is_m(const Command& cmd, uint16_t code) { return cmd.letter == 'M' && cmd.code == code; }
 
 // Only M112 (stop) and M108 (cancel the wait) lines pass while M109 waits.
@@ -152,12 +155,12 @@ void Interpreter::process_line(char* line) {
   const char* text = frame.command;
   while (*text == ' ') ++text;
   if (*text == '\0') {  // "N7*xx": a numbered empty line
-    out_.print(GCODE_TEXT("ok\n"));
+    out_.print(ok_text());
     return;
   }
   if (!parsed) {
     echo_unknown(text);
-    out_.print(GCODE_TEXT("ok\n"));
+    out_.print(ok_text());
     return;
   }
   execute(cmd);
@@ -174,7 +177,7 @@ void Interpreter::execute(const Command& cmd) {
   }
   if (!was_waiting && machine_.command_pending()) wait_ = Wait::kMachine;  // M500: ok when written
   if (ok_sent_ || (waiting() && !was_waiting)) return;  // M105; M109/M500: finish_wait() sends it
-  out_.print(GCODE_TEXT("ok\n"));
+  out_.print(ok_text());
 }
 
 void Interpreter::echo_unknown(const char* typed) {
@@ -192,7 +195,7 @@ void Interpreter::reject_line(bool numbered, const FlashText* reason, int16_t ba
   // Hosts resend everything from the requested line; only numbered lines advance last_line_.
   // Every reason names "line number", "checksum" or "format error": OctoPrint treats such
   // errors as transmission errors awaiting the Resend instead of firmware faults.
-  out_.print(GCODE_TEXT("Error:"));
+  out_.begin_error();
   out_.print(reason);
   if (bad_byte >= 0) {
     out_.print(GCODE_TEXT(" 0x"));
@@ -244,7 +247,7 @@ void Interpreter::poll(uint32_t now_ms) {
 
 void Interpreter::finish_wait() {
   wait_ = Wait::kNone;
-  out_.print(GCODE_TEXT("ok\n"));
+  out_.print(ok_text());
   if (held_) {
     held_ = false;
     process_line(line_.text());

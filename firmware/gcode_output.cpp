@@ -78,8 +78,15 @@ void Output::write_exact(int32_t value, uint8_t frac_bits) {
   write_fixed(value, frac_bits, decimals);
 }
 
+// noinline: its three callers each had the test and the call inlined.
+__attribute__((noinline)) void Output::refusal_line(const FlashText* reason) {
+  if (reason != nullptr) error_line(reason);
+}
+
+void Output::begin_error() { print(GCODE_TEXT("Error:")); }
+
 void Output::error_line(const FlashText* reason) {
-  print(GCODE_TEXT("Error:"));
+  begin_error();
   print(reason);
   end_line();
 }

@@ -31,6 +31,10 @@ class Output {
   void end_line() { write_char('\n'); }
   // "Error:" + text + "\n" — the reply for refused input (see Machine's refusal reasons).
   void error_line(const FlashText* reason);
+  // error_line(reason) unless reason is nullptr (the machine's "accepted").
+  void refusal_line(const FlashText* reason);
+  // "Error:" alone, for error lines built from parts (one copy of the text in flash).
+  void begin_error();
 
  protected:
   ~Output() = default;  // never deleted through this interface (no heap in the firmware)

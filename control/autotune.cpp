@@ -73,6 +73,11 @@ constexpr uint16_t kFull = 65535;
 constexpr uint8_t kCycleSteps = 13;  // compute steps per stored relay cycle
 constexpr uint8_t kFanSteps = 5;     // compute steps of the gain with the fan
 constexpr int32_t kFanFallQ8 = 8 * kQ8;  // the fan step's window may end once the reading fell this far
+constexpr int32_t kFanRiseQ8 = 2 * kQ8;  // ... and ends once the reading is this far above S
+// The fan step's held duty stays below 50 %: the firmware's model-free heating watch
+// (firmware/thermal_watch.h, kMinDutyQ16) runs only at ≥ 50 % and would read the step's
+// open-loop fall on a weak heater (ū ≥ 50 %) as a thermistor come loose.
+constexpr uint16_t kFanHeldMaxQ16 = 32767;
 
 // The small helpers below are noinline: with LTO every use was inlined (32-bit shifts and
 // compares), 660 bytes of flash in all (div2n alone 496) for a call's few cycles.
@@ -684,13 +689,13 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   ap.duty_avg_q16 = 0;
   ap.settled_bins = 0;
   ap.near_bins = 0;
-  // The deadbeat needs a model to trust: a cold cut probe with a sharp (FOPDT-like) peak.
-  // (and a loss rate: ū = 0 would hold nothing once landed).
-  // A flat peak too where the cut-to-peak time is within 1.25 × the pulse-to-response time: an
-  // FOPDT's are both its dead time; a sensor lag peaks 2–4 × later (heavy-slow, hotend40w-delay5:
-  // on those the deadbeat reached S + 10 °C at σ 0.5, or the relay then stopped switching). A
-  // loss still unknown (fopdt-120-25: < 1 °C of decay) is learnt at full power and near the target.
-  const bool fopdt_like = probe_.max_tick != 0 || 4 * horizon_ticks_ <= 5 * (static_cast<int32_t>(probe_.det_bin) * kTicksPerBin);
+  // The deadbeat needs a model to trust: a cold cut probe with a sharp (FOPDT-like) peak (and a
+  // loss rate: ū = 0 would hold nothing once landed). Not on a flat peak, even one timed like an
+  // FOPDT's (cut-to-peak within 1.25 × pulse-to-response: fopdt-120-25's relay started 150 s
+  // sooner): a light 80 W block behind a 20 s transport delay peaks flat with that timing, and
+  // the deadbeat landed it at S + 3.6 °C with the relay biased above its steady duty: S + 25 °C
+  // (aborted) in 6 of 9 host runs at σ 0.1–0.5 (test: FlatPeakBehindATransportDelay...).
+  const bool fopdt_like = probe_.max_tick != 0;
   ap.landed = untrusted_ || probe_.continuous || hot_start_ || probe_.retries != 0 || !fopdt_like ? 2 : 0;
   enter(Phase::kApproach);
   duty_q16_ = heater_on_ ? kFull : 0;
@@ -893,6 +898,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         const int32_t late = heat_q8(static_cast<uint16_t>(duty_q16_ >> 8)) - heat_q8(static_cast<uint16_t>(ap.steady_q16 >> 8));
         ex -= late - div2n(late, 2);
       }
+      ex = fixed::clamp(ex, -200 * kQ8, 200 * kQ8);  // again after the deadbeat's heat in flight
       const int32_t u = ap.steady_q16 + ((ex * gain) >> 8);  // |ex·gain| ≤ 51,200 · 40,000 < 2^31
       if (u < kFull && ap.landed == 0) ap.landed = 1;
       duty_q16_ = clamp_duty(u);
@@ -1136,8 +1142,10 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
     inv_t_nofan_q16_ = inv_t_q16_;  // the relay's drift correction (compute), with or without F
     if (measure_fan_) {
       // The fan step: fan 100 %, the heater held at the last cycle's mean duty (stage 3 above),
-      // open loop: the reading can only fall (F ≥ 0), and its fall gives F (fan_stage).
+      // open loop: the fan's loss (F ≥ 0) makes the reading fall, and the fall gives F
+      // (fan_stage; a mean above the steady duty can make it rise instead: that ends the step).
       fan_ = 255;
+      if (bias_q16_ > kFanHeldMaxQ16) bias_q16_ = kFanHeldMaxQ16;  // (compute reads the held duty here)
       duty_q16_ = bias_q16_;
       enter(Phase::kFan);
     } else {
@@ -1168,16 +1176,30 @@ uint16_t Autotune::fan_span_bins() const {
 // means summed (|y − target| < 2^16 per bin, < 2^11 bins), its first bin kept for its change.
 void Autotune::fan_stage() {
   const uint16_t wait = fan_wait_bins();
-  if (bins_ < wait) return;
+  // The held duty is the last cycle's mean, which can sit above the steady duty (a drifting or
+  // noisy relay): with a fan that hardly cools, the reading then rises. The step ends 2 °C above
+  // S, wait included (F from what the window has, ≈ 0; no window: F 0).
+  const bool rising = y_bin_q8_ > target_q8_ + kFanRiseQ8;
+  if (bins_ < wait && !rising) return;
+  if (rising && bins_ <= wait) {
+    pending_q8_ = 0;
+    fan_span_ = 0;
+    end_fan_step();
+    return;
+  }
   if (bins_ == wait) pending_q8_ = y_bin_q8_;
   sum_dev_[1] += y_bin_q8_ - target_q8_;
   ++sum_ticks_[1];
   // The window ends early once the reading has fallen kFanFallQ8 past its first bin (a fast
   // hotend's slope is plain by then, and the dip stays small): its span is then the bins so far.
   const int32_t fall = pending_q8_ - y_bin_q8_;
-  if (bins_ < wait + fan_span_bins() && (fall < kFanFallQ8 || bins_ < wait + 4)) return;
+  if (!rising && bins_ < wait + fan_span_bins() && (fall < kFanFallQ8 || bins_ < wait + 4)) return;
   fan_span_ = static_cast<uint16_t>(bins_ - wait);
   pending_q8_ = -fall;  // Δ over the span (compute)
+  end_fan_step();
+}
+
+void Autotune::end_fan_step() {
   fan_ = 0;
   duty_q16_ = 0;
   compute_step_ = 0;

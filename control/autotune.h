@@ -164,6 +164,7 @@ class Autotune {
   uint8_t approach_stage(uint8_t stage);
   uint8_t relay_stage(uint8_t stage);
   void fan_stage();
+  void end_fan_step();
   uint16_t fan_wait_bins() const;
   uint16_t fan_span_bins() const;
   void model_bin();

@@ -255,7 +255,7 @@ TEST_F(AutotunePlants, IdentifyFopdtPlantsWithin10PercentAndFanWithin20) {
 // gives C within 1 % at σ 0.1 °C (the relay's formulas alone: −5.6..+4.7 % over these runs).
 TEST(Autotune, CutProbeTimeConstantWithin1PercentOnDeadTimePlants) {
   for (const Plant& p : plants()) {
-    if (p.name != "seed002" && p.name != "seed004" && p.name != "fopdt-120-25") continue;
+    if (p.name != "seed002" && p.name != "seed004") continue;
     for (unsigned long long seed : {12345ULL, 1ULL, 2ULL, 3ULL}) {
       const TuneRun r = run(p, 3, true, 0.1, false, 1.0, -1, false, 1800, seed);
       ASSERT_EQ(r.state, AutotuneState::kFinished) << p.name << " seed " << seed;
@@ -295,13 +295,12 @@ TEST_F(AutotunePlants, DurationTargets) {
 // The probe → approach → relay part on the FOPDT dead-time plants: on those whose cut probe
 // peaks sharply (seed002, seed004) the loss rate from the decay after the peak's bin within 3 %
 // (from the peak's own bin, which rounds a sharp peak off, seed004 read 1/T 22 % low and its
-// approach stalled 25 °C short); on those and on fopdt-120-25 (a flat peak as late after the cut
-// as the response after the pulse's start) the deadbeat approach on the aligned predictor settled
-// for the relay within the full-power heat-up + 4.5 L after the probe (the slow law took 151,
-// 158 and 343 s: 7–14 L).
+// approach stalled 25 °C short), and the deadbeat approach on the aligned predictor settled for
+// the relay within the full-power heat-up + 4.5 L after the probe (the slow law took 151 and 158
+// s: 7–8 L). (fopdt-120-25's flat peak keeps the slow law: FlatPeakBehindATransportDelay...)
 TEST(AutotuneApproach, FopdtDeadTimePlantsLandWithinHeatupPlusFourAndAHalfL) {
   for (const Plant& p : plants()) {
-    if (p.name != "seed002" && p.name != "seed004" && p.name != "fopdt-120-25") continue;
+    if (p.name != "seed002" && p.name != "seed004") continue;
     design::PlantSim sim(p.model);
     sim.set_noise(0.1);
     Autotune at;
@@ -313,9 +312,7 @@ TEST(AutotuneApproach, FopdtDeadTimePlantsLandWithinHeatupPlusFourAndAHalfL) {
     }
     const double inv_t = at.inv_t_q16() / 65536.0, inv_t_true = Autotune::kTicksPerBin * kPeriodS / p.t;
     std::printf("%-8s 1/T per bin %.5f (true %.5f)\n", p.name.c_str(), inv_t, inv_t_true);
-    if (p.name != "fopdt-120-25") {  // (its decay after the peak: < 1 °C, the loss unknown)
-      EXPECT_NEAR(inv_t, inv_t_true, 0.03 * inv_t_true) << p.name;
-    }
+    EXPECT_NEAR(inv_t, inv_t_true, 0.03 * inv_t_true) << p.name;
     const TuneRun r = run(p, 5, true, 0.1, false, 1.0, -1, false, 1800);
     std::printf("%-8s approach %.1f s, relay %.1f s: %.1f s (heat-up %.1f + 4.5 L %.1f)\n", p.name.c_str(), r.approach_s,
                 r.relay_s, r.relay_s - r.approach_s, r.heatup_s, 4.5 * p.l);
@@ -331,12 +328,12 @@ TEST(AutotuneApproach, FopdtDeadTimePlantsLandWithinHeatupPlusFourAndAHalfL) {
 // 904, seed003 379, fopdt-300-10 746, fopdt-120-25 1378, heavy-slow 2281, two-node-delay5 975,
 // seed000-4 5196, seed000-5 4407; with the closed-loop fan hold: 634, 616, 324, 565, 986, 1896,
 // 781, 2446, 2803; with the fan step: 453, 446, 266, 516, 766, 1589, 681, 2344, 2540; with the
-// deadbeat approach and no settling cycle after it too: seed002 335, seed004 336, fopdt-300-10 488,
-// fopdt-120-25 627, the rest unchanged), so a slower tune fails here.
+// deadbeat approach (sharp probe peaks) and no settling cycle after it too: seed002 335, seed004
+// 336, the rest unchanged), so a slower tune fails here.
 TEST(AutotuneDuration, DefaultEffortC5PerPlant) {
   const std::map<std::string, double> ceiling = {
-      {"seed002", 370},      {"seed004", 370},       {"seed003", 295},       {"fopdt-300-10", 540},
-      {"fopdt-120-25", 690}, {"heavy-slow", 1750},  {"two-node-delay5", 750}, {"seed000-4", 2580},
+      {"seed002", 370},      {"seed004", 370},       {"seed003", 295},       {"fopdt-300-10", 570},
+      {"fopdt-120-25", 845}, {"heavy-slow", 1750},  {"two-node-delay5", 750}, {"seed000-4", 2580},
       {"seed000-5", 2795}};
   std::printf("%-16s %7s %7s %6s\n", "plant", "tune s", "target", "max-S");
   for (const Plant& p : plants()) {
@@ -546,7 +543,7 @@ TEST(Autotune, FanStepAtItsLongestStillEnds) {
 // within 20 %.
 TEST(Autotune, FanStepHoldsOneDutyForAFewDeadTimes) {
   for (const Plant& p : plants()) {
-    if (p.name != "seed002" && p.name != "seed004" && p.name != "fopdt-120-25") continue;
+    if (p.name != "seed002" && p.name != "seed004") continue;
     design::PlantSim sim(p.model);
     sim.set_noise(0.1);
     Autotune at;
@@ -595,3 +592,44 @@ TEST(Autotune, RelayDriftCorrectedWithoutTheFan) {
 }
 
 }  // namespace
+
+// A light 80 W block (6 J/K, 1 s sensor lag) behind a 20 s transport delay: its cut probe peaks
+// flat with an FOPDT's timing (cut-to-peak ≈ pulse-to-response). A deadbeat approach allowed on
+// such flat peaks landed it at S + 3.6 °C with the relay biased above its steady duty; it then
+// climbed to S + 25 °C and aborted in 6 of 9 runs (σ 0.1–0.5 × 3 noise seeds). The deadbeat now
+// needs a sharp peak; the slow law brings this block in within S + 1.6 °C.
+TEST(Autotune, FlatPeakBehindATransportDelayStaysWithinTargetPlus5) {
+  design::TwoNodeParams p;
+  p.block_j_per_k = 6;
+  p.heater_w = 80;
+  p.sensor_rate_per_s = 1.0;
+  const Plant plant = two_node_plant("light-80W-delay20", p, 210, 20.0);
+  for (double noise : {0.1, 0.3, 0.5}) {
+    for (unsigned long long seed : {12345ULL, 1ULL, 2ULL}) {
+      const TuneRun r = run(plant, 5, true, noise, false, 1.0, -1, false, 1800, seed);
+      EXPECT_EQ(r.state, AutotuneState::kFinished) << "σ " << noise << " seed " << seed << " failure "
+                                                   << static_cast<int>(r.failure);
+      EXPECT_LE(r.max_c, plant.target_c + 5.0) << "σ " << noise << " seed " << seed;
+    }
+  }
+}
+
+// A part fan that does not cool the nozzle (no fan, or a shroud aimed elsewhere), F1 the default:
+// the fan step holds the last relay cycle's mean duty open loop, and that mean can sit above the
+// steady duty, so the reading may rise instead of fall. The step ends once it is 2 °C above S;
+// before, seed000-4 reached S + 9.1 °C and two-node-30W at C20 S + 5.8 °C (σ 0.3). F then reads
+// 0–14 %, except seed000-5 at C5: 230 % (its relay's mean duty sits below the steady one and the
+// unsure plant's slow fall passes for the fan's; not fixed, so not asserted there).
+TEST(Autotune, FanThatDoesNotCoolEndsTheStepBeforeTargetPlus5) {
+  for (Plant p : plants()) {
+    p.model.fan_loss_per_k = 0;
+    for (uint8_t cycles : {uint8_t{5}, uint8_t{20}}) {
+      const TuneRun r = run(p, cycles, true, 0.3, false, 1.0, -1, false, 3600);
+      if (r.state != AutotuneState::kFinished) continue;  // the noisy bank's known failures (AutotuneNoise)
+      EXPECT_LE(r.max_c, p.target_c + 5.0) << p.name << " C" << int{cycles};
+      if (p.name != "seed000-5") {
+        EXPECT_LT(q8(r.result.model.fan_loss_pct_q8), 15.0) << p.name << " C" << int{cycles};
+      }
+    }
+  }
+}

@@ -36,8 +36,9 @@ constexpr Settings make_default_settings() {
   return s;
 }
 
-// In flash, copied out at boot and on M502: the model needs no RAM copy (16 B of .data).
-const Settings kDefaultSettings GCODE_PROGMEM = make_default_settings();
+// In flash, copied out at boot and on M502: the model needs no RAM copy (16 B of .data). constexpr:
+// a default that is not a constant fails to compile (a dynamic initializer would leave flash zeros).
+constexpr Settings kDefaultSettings GCODE_PROGMEM = make_default_settings();
 
 }  // namespace
 

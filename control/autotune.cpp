@@ -503,6 +503,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     // the peak's: the peak's own bin rounds it off (seed004: 1/T 22 % low from the peak bin over
     // 5 bins, ū 30 % low, and the deadbeat approach landed 25 °C short). A flat one from its bin.
     const bool sharp = sharp_peak();
+    if (!sharp) p.max_tick = 0;  // L̂ to the tick only on a sharp peak (stage 4, the hand-over)
     const int32_t from = sharp ? p.y_after_q8 : p.y_peak_q8;
     const int32_t drop = from - y_bin_q8_;
     const int32_t mid_rise = div2n(from + y_bin_q8_, 1) - ambient_q8_;
@@ -525,9 +526,8 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     // low) is the highest bin (σ/√8). The max is a real reading here (the cut path has readings
     // between the cut and the peak), so the subtraction cannot wrap.
     probe_max_q8_ -= ambient_q8_ + p.base_rise_q8;
-    // Its time is the peak's (L̂ to the tick) where the peak is sharp, as sharp_peak() tells (a
-    // hot start's or a retry's highest reading is the decaying start, not the peak).
-    if (hot_start_ || p.retries != 0 || p.dev_peak_q8 > probe_max_q8_ - noise_floor(kSharpQ8, kSharpSigmaQ4)) p.max_tick = 0;
+    // (Its time, p.max_tick, was kept in stage 3 only where sharp_peak() held: a hot start's or a
+    // retry's highest reading is the decaying start, not the peak.)
     if (hot_start_ || p.retries != 0 || p.dev_peak_q8 > probe_max_q8_ - 3 * static_cast<int32_t>(noise_q8_)) {
       probe_max_q8_ = p.dev_peak_q8;
     }

@@ -335,12 +335,13 @@ TEST(AutotuneDuration, DefaultEffortC5PerPlant) {
       {"seed002", 370},      {"seed004", 370},       {"seed003", 295},       {"fopdt-300-10", 570},
       {"fopdt-120-25", 845}, {"heavy-slow", 1750},  {"two-node-delay5", 750}, {"seed000-4", 2580},
       {"seed000-5", 2795}};
-  std::printf("%-16s %7s %7s %6s\n", "plant", "tune s", "target", "max-S");
+  std::printf("%-16s %7s %7s %6s %8s %7s %7s %7s\n", "plant", "tune s", "target", "max-S", "approach", "relay", "fan", "heatup");
   for (const Plant& p : plants()) {
     const TuneRun r = run(p, 5, true, 0.1, false, 1.0, -1, false, 1800);
     const double target = p.budget_s > 0 ? p.budget_s : r.heatup_s + 180;
     // (seed000: budget_s is already 2 × hotend-sim's physical bound, 730.7 / 664.0 s)
-    std::printf("%-16s %7.1f %7.1f %6.2f\n", p.name.c_str(), r.duration_s, target, r.max_c - p.target_c);
+    std::printf("%-16s %7.1f %7.1f %6.2f %8.1f %7.1f %7.1f %7.1f\n", p.name.c_str(), r.duration_s, target,
+                r.max_c - p.target_c, r.approach_s, r.relay_s, r.fan_s, r.heatup_s);
     EXPECT_EQ(r.state, AutotuneState::kFinished) << p.name;
     EXPECT_LE(r.max_c, p.target_c + 5.0) << p.name;
     const auto c = ceiling.find(p.name);

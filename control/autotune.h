@@ -173,7 +173,7 @@ class Autotune {
   int32_t steady_from_model() const;
   void set_approach_gain();
   void extend_timeout();
-  int32_t trend_q8() const;
+  int32_t trend_q8(uint8_t sigma_q4) const;
   void measure_noise(int32_t y);
   int32_t noise_floor(int32_t fixed_q8, uint8_t sigma_q4) const;
   void set_levels();

@@ -311,6 +311,7 @@ class Autotune {
     uint8_t landed;          // 0 deadbeat (trusted cut probe's first approach), 1 landed, 2 the slow law
     int32_t ref_rise_q8;
     int32_t ref_slope_q8;     // loss learning: rise where the slope S was measured
+    uint8_t loss_estimates;   // loss learning at full power: estimates so far (averaged)
     uint8_t full_bins;       // consecutive bins at 100 % in the approach
     int32_t duty_avg_q16;    // smoothed approach duty (relay bias)
     // The model's history before the approach, generated one entry per bin as it is first read

@@ -1435,6 +1435,15 @@ bool Autotune::compute_chunk() {
         // The probe's C where it agrees with the relay's within 10 % (an FOPDT hotend; a lag or
         // a noisy peak would not): |C − T| < 2^23, × 10 < 2^27.
         m.time_constant_q8 = v.lambda;
+      } else if (hot_start_ && inv_t_nofan_q16_ > 0) {
+        // A hot start has no heat-up from a steady baseline to read T from, but the approach
+        // learnt the loss rate 1/T that holds the target. Taken where the relay's FOPDT formulas
+        // read well above it (a sensor lag read as a long T: hotend40w after M109 S200, tuning
+        // at 240 °C, 683 s against its 245.6; the loss 261 s; its tuned heat-up 1.61 → 1.18 ×
+        // bound in simavr). On FOPDT hotends the two agree within 1.3 × and the relay's is kept.
+        // seconds per bin (q8) < 2^9, × 2^16 < 2^25; ÷ 1/T (Q16, ≥ 1).
+        const uint32_t t_loss = div_q16(static_cast<uint32_t>(seconds_q8(kTicksPerBin)), inv_t_nofan_q16_);
+        if (2 * static_cast<uint32_t>(m.time_constant_q8) > 3 * t_loss) m.time_constant_q8 = static_cast<int32_t>(t_loss);
       } else if (slope_q8_ > 0 && !hot_start_) {
         // A cut probe (hot start, or a slower response): S = K/T at full power. The relay's FOPDT
         // formulas read a sensor lag as a long T (×3 on a lag-type hotend); K/S does not. Taken

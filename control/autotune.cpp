@@ -1443,7 +1443,10 @@ bool Autotune::compute_chunk() {
         // bound in simavr). On FOPDT hotends the two agree within 1.3 × and the relay's is kept.
         // seconds per bin (q8) < 2^9, × 2^16 < 2^25; ÷ 1/T (Q16, ≥ 1).
         const uint32_t t_loss = div_q16(static_cast<uint32_t>(seconds_q8(kTicksPerBin)), inv_t_nofan_q16_);
-        if (2 * static_cast<uint32_t>(m.time_constant_q8) > 3 * t_loss) m.time_constant_q8 = static_cast<int32_t>(t_loss);
+        // (t_loss < 2^25: × 3 fits; a relay T ≤ 0 is no reading at all.)
+        if (m.time_constant_q8 <= 0 || 2 * static_cast<uint32_t>(m.time_constant_q8) > 3 * t_loss) {
+          m.time_constant_q8 = static_cast<int32_t>(t_loss);
+        }
       } else if (slope_q8_ > 0 && !hot_start_) {
         // A cut probe (hot start, or a slower response): S = K/T at full power. The relay's FOPDT
         // formulas read a sensor lag as a long T (×3 on a lag-type hotend); K/S does not. Taken

@@ -675,10 +675,10 @@ TEST(Autotune, FlatPeakBehindATransportDelayStaysWithinTargetPlus5) {
 // the fan step holds the last relay cycle's mean duty open loop, and that mean can sit above the
 // steady duty, so the reading may rise instead of fall. The step ends once it is 2 °C above S;
 // before, seed000-4 reached S + 9.1 °C and two-node-30W at C20 S + 5.8 °C (σ 0.3). F then reads
-// 0–14 %, except on the unsure seed000 plants at C5: seed000-5 230 %, seed000-4 59 % (their
-// relay's last mean duty sits off the steady one and the slow fall passes for the fan's; it
-// read 12 % on seed000-4 until the noisy relay's fixes changed which cycle is last: chance, so
-// not asserted there).
+// 0–14 %, except on the unsure seed000 plants at C5: seed000-4 59 %, seed000-5 31 % (their
+// relay's last mean duty sits off the steady one and the slow fall passes for the fan's; they
+// read 12 % / 230 % until the noisy relay's fixes changed which cycle is last: chance, so not
+// asserted there; at C20 both read 4–5 %).
 TEST(Autotune, FanThatDoesNotCoolEndsTheStepBeforeTargetPlus5) {
   for (Plant p : plants()) {
     p.model.fan_loss_per_k = 0;

@@ -660,7 +660,8 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
     // A probe that needed a longer pulse (nothing in a minute after the first) is a slow or weak
     // hotend whose peak is small against the noise: at σ 0.5 a noise dip passed for seed000-4's
     // peak 22 s after the retry's cut (against ~250 s), and its predictor heated to S + 24 °C.
-    // Its L̂ is then no measure of the trend guard's horizon either: the longest.
+    // An untrusted model's L̂ (this, a plateau taken for the peak, or one past the history) is
+    // no measure of the trend guard's horizon either: the longest.
     if (near(probe_).retries != 0 && !hot_start_) untrusted_ = true;
     guard_bins_ = static_cast<uint8_t>(horizon_bins_ > 62 || untrusted_ ? 132 : 2 * horizon_bins_ + 8);
     extend_timeout();

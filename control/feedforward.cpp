@@ -80,6 +80,14 @@ void ModelReference::configure(const HotendModel& m, uint16_t period_ms) {
   const int32_t d = m.dead_time_q8;
   coast_ = 8 * d >= m.time_constant_q8 ? rate(2 * d > 256 ? 2 * d : 256, period_ms) : Rate{0, false};
   lead_share_16ths_ = d >= kLeadLongDeadTimeQ8 ? 5 : 12;
+  // The lead a FOPDT hotend shows when its identified D is 1/8 too long (the model's initial
+  // slope A/C times D/8) is no lag: below it the rule keeps out. A D 4 % long on fopdt-120-25
+  // (3.7 °C of lead) ended full power early and settled in 1.70 × bound instead of 1.00
+  // (simavr); the lags it is for lead by 34–37 °C (seed003, seed000-4) against 8–16 °C here.
+  // A·D/(8C) ≤ 2^19·2^18/2^11 < 2^32, 8C < 2^23 (mul_div_u32's bounds), clamped to int16.
+  const uint32_t lead_min = fixed::mul_div_u32(static_cast<uint32_t>(m.rise_q8), static_cast<uint32_t>(d),
+                                               8 * static_cast<uint32_t>(m.time_constant_q8));
+  lead_min_q8_ = static_cast<int16_t>(lead_min > 32767 ? 32767 : lead_min);
   full_q16_ = (kFeedforwardAmbientQ8 + m.rise_q8) << 8;
   // α·A in q16: rise_q8·256 < 2^28, so scaled() holds it; ≥ 1 for every valid model
   // (α ≥ 2^-24·mantissa, A ≥ 10 °C).
@@ -127,7 +135,7 @@ ModelReference::Output ModelReference::step(int32_t target_q8, uint16_t steady_q
       if (lead_q8 > lead_q8_) lead_q8_ = lead_q8;
     }
     // ¾ of the lead, or 5/16 for a long D, q16: lead_q8 < 2^20 (|difference| above), so < 2^28.
-    const int32_t early_q16 = lead_q8_ * lead_share_16ths_ * 16;
+    const int32_t early_q16 = lead_q8_ > lead_min_q8_ ? lead_q8_ * lead_share_16ths_ * 16 : 0;
     // The update is linear in the duty u: Δx(u) = Δx(0) + u·α·A. Heating at full power (or
     // cooling with the heater off) until x would pass the target; that update lands x on it with
     // u = (target − x − Δx(0)) / (α·A), from the full-power step less the overshoot it would

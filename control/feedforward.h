@@ -130,6 +130,7 @@ class ModelReference {
   bool odd_ = false;
   bool landing_ = false;              // duty_q16_ is the update's landing duty, not full/off
   uint8_t lead_share_16ths_ = 12;     // the lead rule's share of the lead (configure)
+  int16_t lead_min_q8_ = 0;           // leads up to this are a D error, not a lag (configure)
   // Lead rule (issue 7): the most the reading has run ahead of the model's output during this
   // heat-up, less kLeadSlackQ8. A FOPDT cannot respond before its dead time; a plant that does
   // stores heat in lags the two-point fit folded into D, and the full-power phase ends

@@ -174,7 +174,8 @@ namespace {
 // The lead rule (issue 7): a reading that runs ahead of the model's output during the heat-up
 // (a lag-type plant whose fit folded lags into D) ends full power earlier, by ¾ of the lead
 // (5/16 for D ≥ 64 s); a reading that follows the model (an exact FOPDT) changes nothing, and
-// a fit with D < C/8 (hotend40w, seed000-5) keeps the plain time-optimal heat-up.
+// a fit with D < C/8 (hotend40w, seed000-5) keeps the plain time-optimal heat-up, and so does a
+// lead (less the slack) up to A·D/(8C): an FOPDT whose D is up to an eighth too long.
 int full_power_updates(const HotendModel& m, double lead_c) {
   ModelReference r;
   r.configure(m, kPeriodMs);
@@ -196,6 +197,13 @@ TEST(ModelReference, AReadingAheadOfTheModelEndsFullPowerEarlyOnLagTypeFits) {
   EXPECT_EQ(full_power_updates(seed003_fit, 0.9), plain);        // within the 1 °C slack
   // 31 °C ahead: ¾ × 30 °C above the slack ends full power where x is 22.5 °C short of 210 °C.
   EXPECT_NEAR(full_power_updates(seed003_fit, 31) * kH, 35.06 * std::log(450.0 / 287.5), 0.3);
+  // fopdt-120-25 with D 4 % long (26 s) led by 3.7 °C in simavr and settled in 1.70 × bound;
+  // its threshold is 450 · 26 / (8 · 120) = 12.19 °C of lead, 13.19 °C of reading ahead.
+  const HotendModel fopdt_d_long{to_q8(450), to_q8(120), to_q8(26), 0};
+  const int fopdt_plain = full_power_updates(fopdt_d_long, 0);
+  EXPECT_EQ(full_power_updates(fopdt_d_long, 3.7), fopdt_plain);
+  EXPECT_EQ(full_power_updates(fopdt_d_long, 13.0), fopdt_plain);
+  EXPECT_LT(full_power_updates(fopdt_d_long, 13.5), fopdt_plain);
   // seed000-4's fit (D 163 s): 5/16 × 30 °C, x 9.375 °C short.
   const HotendModel seed000_4_fit{to_q8(450), to_q8(582.4), to_q8(163.4), 0};
   EXPECT_NEAR(full_power_updates(seed000_4_fit, 31) * kH, 582.4 * std::log(450.0 / 274.375), 0.5);

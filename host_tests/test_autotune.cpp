@@ -233,16 +233,17 @@ TEST_F(AutotunePlants, OnlyTheTransportDelayedLagPeaksLate) {
 
 TEST_F(AutotunePlants, IdentifyFopdtPlantsWithin10PercentAndFanWithin20) {
   const std::vector<Plant> ps = plants();
-  // Known misses: fopdt-30-1's dead time 1 s comes out 0.85–0.90 s (−10..−15 %: 0.1 s is under
-  // one control period); fopdt-60-3's T +8..+14 % (asserted at 15 %): at L/T = 0.05 the relay's
-  // 1 − θ is a 5 % ratio of two amplitudes, so the reading noise moves T by several percent.
+  // Known miss: fopdt-30-1's dead time 1 s comes out 0.85–0.90 s (−10..−15 %: 0.1 s is under
+  // one control period). fopdt-60-3's relay T reads +8..+16 % (at L/T = 0.05 its 1 − θ is a 5 %
+  // ratio of two amplitudes); the cut probe's C, taken within 20 % of it, reads −0.1..+1.3 %
+  // (σ 0.1, 20 noise seeds).
   for (size_t i = 0; i < ps.size(); ++i) {
     const Plant& p = ps[i];
     const TuneRun& r = (*runs_)[i];
     if (!p.fopdt) continue;
     const control::HotendModel& m = r.result.model;
     EXPECT_NEAR(q8(m.rise_q8), p.k, 0.10 * p.k) << p.name;
-    EXPECT_NEAR(q8(m.time_constant_q8), p.t, (p.name == "fopdt-60-3" ? 0.15 : 0.10) * p.t) << p.name;
+    EXPECT_NEAR(q8(m.time_constant_q8), p.t, 0.10 * p.t) << p.name;
     if (p.name != "fopdt-30-1") {
       EXPECT_NEAR(q8(m.dead_time_q8), p.l, 0.10 * p.l) << p.name;
     }
@@ -329,11 +330,12 @@ TEST(AutotuneApproach, FopdtDeadTimePlantsLandWithinHeatupPlusFourAndAHalfL) {
 // seed000-4 5196, seed000-5 4407; with the closed-loop fan hold: 634, 616, 324, 565, 986, 1896,
 // 781, 2446, 2803; with the fan step: 453, 446, 266, 516, 766, 1589, 681, 2344, 2540; with the
 // deadbeat approach (sharp probe peaks) and no settling cycle after it too: seed002 335, seed004
-// 336, the rest unchanged), so a slower tune fails here.
+// 336, the rest unchanged; with the full-power approach after a probe that showed no loss:
+// fopdt-120-25 657, two-node-delay5 547), so a slower tune fails here.
 TEST(AutotuneDuration, DefaultEffortC5PerPlant) {
   const std::map<std::string, double> ceiling = {
       {"seed002", 370},      {"seed004", 370},       {"seed003", 295},       {"fopdt-300-10", 570},
-      {"fopdt-120-25", 845}, {"heavy-slow", 1750},  {"two-node-delay5", 750}, {"seed000-4", 2580},
+      {"fopdt-120-25", 725}, {"heavy-slow", 1750},  {"two-node-delay5", 605}, {"seed000-4", 2580},
       {"seed000-5", 2795}};
   std::printf("%-16s %7s %7s %6s %8s %7s %7s %7s\n", "plant", "tune s", "target", "max-S", "approach", "relay", "fan", "heatup");
   for (const Plant& p : plants()) {

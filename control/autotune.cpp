@@ -928,6 +928,11 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       if (u < kFull && ap.landed == 0) ap.landed = probe_.max_tick != 0 ? 1 : 2;
       duty_q16_ = clamp_duty(u);
       ap.duty_avg_q16 += div2n(static_cast<int32_t>(duty_q16_) - ap.duty_avg_q16, 2);
+      // Above the target with the trend carrying it past S + 2 °C: heater off, as in the relay.
+      // An untrusted model's ū can be far off (seed000-4 at σ 0.2: ū 0.52 for a steady 0.28),
+      // and the P law's gain then parks the reading that far above (S + 11.6 °C before). Not in the
+      // average the relay's bias starts from (its zeros there failed seed000-4's relay at σ 0.1).
+      if (guard_off_ && y_bin_q8_ > target_q8_) duty_q16_ = 0;
       // (An untrusted model's P law may stall short of the target: the relay takes over nearer.)
       ap.settled_bins = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? 4 * kSettleBandQ8 : kSettleBandQ8)
                           ? static_cast<uint8_t>(ap.settled_bins + 1)

@@ -32,10 +32,11 @@
 //             ⌈C/2⌉ × (L̂/2 + 4) bins, ended once the reading fell 8 °C: its mean rise and its
 //             fall give the duty that holds the rise with the fan, ū_F = u − ẏ/S
 //   compute   K from mean temperature / mean duty; T and L from the relay's asymmetric-FOPDT
-//             formulas (lag-type hotends: T from the heat-up slope, L from the relay amplitude;
-//             a cold cut probe: T = p/ln(K/(K − peak)) from its pulse where it agrees within 10 %);
+//             formulas, the reading noise's lift first taken off each cycle's extremes and
+//             switch levels (lag-type hotends: T from the heat-up slope, L from the relay amplitude;
+//             a cold cut probe: T = p/ln(K/(K − peak)) from its pulse where it agrees within 20 %);
 //             F = K·ū_F/rise − 1 from the fan step; K corrected for the relay's drift
-//             (K·ū = rise + T·ẏ); one small piece per step (≈ 110 steps)
+//             (K·ū = rise + T·ẏ); one small piece per step (≈ 122 steps)
 // The slow logic runs in pieces of at most one 32-bit division each, one piece per step, so that
 // every step() stays cheap on AVR (see the cost notes at the top of autotune.cpp).
 #pragma once

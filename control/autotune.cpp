@@ -714,9 +714,10 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   // A cold cut probe whose decay was too slow to show the loss (1/T = 0): the same full-power
   // law on a model without loss, which over-predicts the rise and so lands short, then the slow
   // law (its P law around ū = 0 held fopdt-120-25 60 °C short for 90 s, until the loss was learnt).
-  const bool no_loss = inv_t_q16_ == 0 && !probe_.continuous && !hot_start_ && probe_.retries == 0 &&
-                       noise_q8_ <= kQuietNoiseQ8;
-  ap.landed = untrusted_ || !(fopdt_like || no_loss) ? 2 : 0;
+  // Both only after a cold start's single cut pulse: a retried one keeps its first pulse's max_tick.
+  const bool cold_cut = !probe_.continuous && !hot_start_ && probe_.retries == 0;
+  const bool no_loss = inv_t_q16_ == 0 && noise_q8_ <= kQuietNoiseQ8;
+  ap.landed = untrusted_ || !cold_cut || !(fopdt_like || no_loss) ? 2 : 0;
   enter(Phase::kApproach);
   duty_q16_ = heater_on_ ? kFull : 0;
   heater_on_ = false;

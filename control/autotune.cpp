@@ -68,6 +68,11 @@ constexpr uint8_t kLossDropSigmaQ4 = 64;
 // at S + 7..12 °C on 3 of 20 noise seeds. Only on a sensor this quiet (σ ≤ 0.15 °C).
 constexpr uint16_t kQuietNoiseQ8 = 38;
 constexpr uint8_t kDriftSigmaQ4 = 6;
+// The relay's longer minimum half (relay_tick): measured σ above 0.3 °C (Q8; the estimate reads
+// σ 0.3 as ≈ 0.27), on a hotend whose L̂/T (probe horizon over the learnt time constant) is ≥ 0.2.
+constexpr uint16_t kLongHalfNoiseQ8 = 76;
+constexpr uint32_t kLongHalfLOverTQ16 = 13107;
+constexpr int32_t kLongHalfFarQ8 = 2 * kQ8;
 constexpr uint8_t kGuardSigmaQ4 = 3;
 constexpr int32_t kGuardMarginQ8 = 2 * kQ8;     // untrusted model: relay's trend limit above target
 // A bin's mean reading shows the model's state (L̂ + 4 ticks)/8 bins back: its readings' centre
@@ -1056,8 +1061,22 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
   // left the next cycle's bias 10 % below the steady duty, and the relay stopped switching).
   // (The first half after a settled approach lasts ≥ L̂: the first cycle's in-flight heat is
   // then the low level's alone, as in any later cycle; seed002 at L̂/2: T 26.8 s against 24.)
-  const int32_t hl = untrusted_ ? horizon_ticks_ >> 2 : (settling_cycles_ == 0 && !started_cycle_ ? horizon_ticks_ : horizon_ticks_ >> 1);
-  const int32_t min_half = hl > kTicksPerBin ? hl : kTicksPerBin;
+  // On a noisy sensor (σ > 0.3 °C) a dead-time-dominated hotend (L̂/T ≥ 0.2) gets halves of at
+  // least L̂ throughout: an FOPDT relay's half lasts longer than its dead time, and at L̂/2 the
+  // noise ended halves early (seed004, seed002, fopdt-120-25 at σ 0.5: cycles of ~2·L̂/2, D read
+  // 35–60 % short on 7 of 120 tunes). Not on lag-type hotends (their L̂ is a lag, whose relay
+  // halves are shorter: hotend30w and hotend40w-delay5 overshot more after U1), nor below
+  // 0.3 °C, where nothing changes. L̂ < 2^8 bins, 1/T ≤ 2^14: the product < 2^22.
+  const bool noisy_dead_time =
+      noise_q8_ > kLongHalfNoiseQ8 && uint32_t{horizon_bins_} * inv_t_q16_ >= kLongHalfLOverTQ16;
+  const int32_t hl = untrusted_ ? horizon_ticks_ >> 2
+                                : ((settling_cycles_ == 0 && !started_cycle_) || noisy_dead_time ? horizon_ticks_
+                                                                                                  : horizon_ticks_ >> 1);
+  int32_t min_half = hl > kTicksPerBin ? hl : kTicksPerBin;
+  // ... but a mean 2 °C past the target (8 σ of the mean at σ 0.5) is no noise crossing: the
+  // level is off, and L̂/2 applies (seed004 realisation 8 at σ 0.5, both levels above the steady
+  // duty: S + 6.44 °C with halves of L̂, 5.33 as before with this).
+  if (noisy_dead_time && abs32(yf - target_q8_) > kLongHalfFarQ8) min_half = horizon_ticks_ >> 1;
   if (relay_hi_) {
     if (yf < cyc_min_q8_) cyc_min_q8_ = yf;
     if (yf > target_q8_ + hysteresis && half_ticks_ >= min_half) {

@@ -1061,22 +1061,23 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
   // left the next cycle's bias 10 % below the steady duty, and the relay stopped switching).
   // (The first half after a settled approach lasts ≥ L̂: the first cycle's in-flight heat is
   // then the low level's alone, as in any later cycle; seed002 at L̂/2: T 26.8 s against 24.)
-  // On a noisy sensor (σ > 0.3 °C) a dead-time-dominated hotend (L̂/T ≥ 0.2) gets halves of at
-  // least L̂ throughout: an FOPDT relay's half lasts longer than its dead time, and at L̂/2 the
-  // noise ended halves early (seed004, seed002, fopdt-120-25 at σ 0.5: cycles of ~2·L̂/2, D read
-  // 35–60 % short on 7 of 120 tunes). Not on lag-type hotends (their L̂ is a lag, whose relay
-  // halves are shorter: hotend30w and hotend40w-delay5 overshot more after U1), nor below
-  // 0.3 °C, where nothing changes. L̂ < 2^8 bins, 1/T ≤ 2^14: the product < 2^22.
-  const bool noisy_dead_time =
-      noise_q8_ > kLongHalfNoiseQ8 && uint32_t{horizon_bins_} * inv_t_q16_ >= kLongHalfLOverTQ16;
+  // On a noisy sensor (σ > 0.3 °C) a trusted dead-time-dominated hotend (L̂/T ≥ 0.2, L̂ in whole
+  // bins) gets halves of at least L̂: an FOPDT relay's half lasts longer than its dead time, and
+  // at L̂/2 the noise ended halves early (seed004, seed002, fopdt-120-25 at σ 0.5: cycles of
+  // ~2·L̂/2, D read 35–60 % short on 7 of 120 tunes). Not on lag-type hotends (their L̂ is a lag,
+  // whose relay halves are shorter: hotend30w and hotend40w-delay5 overshot more after U1), nor
+  // below 0.3 °C, where nothing changes. Except while the mean is 2 °C past the target (8 σ of the
+  // mean at σ 0.5): no noise crossing, the level is off (seed004 realisation 8 at σ 0.5, both
+  // levels above the steady duty: S + 6.44 °C with halves of L̂, 5.33 with this exception).
+  // Neither input changes during the relay (noise_q8_ stops at the probe's response, 1/T at the
+  // approach's end). L̂ ≤ 254 bins, 1/T < 2^16: the product < 2^24.
+  const bool first_settled_half = settling_cycles_ == 0 && !started_cycle_;
+  const bool noisy_dead_time = !untrusted_ && !first_settled_half && noise_q8_ > kLongHalfNoiseQ8 &&
+                               uint32_t{horizon_bins_} * inv_t_q16_ >= kLongHalfLOverTQ16 &&
+                               abs32(yf - target_q8_) <= kLongHalfFarQ8;
   const int32_t hl = untrusted_ ? horizon_ticks_ >> 2
-                                : ((settling_cycles_ == 0 && !started_cycle_) || noisy_dead_time ? horizon_ticks_
-                                                                                                  : horizon_ticks_ >> 1);
-  int32_t min_half = hl > kTicksPerBin ? hl : kTicksPerBin;
-  // ... but a mean 2 °C past the target (8 σ of the mean at σ 0.5) is no noise crossing: the
-  // level is off, and L̂/2 applies (seed004 realisation 8 at σ 0.5, both levels above the steady
-  // duty: S + 6.44 °C with halves of L̂, 5.33 as before with this).
-  if (noisy_dead_time && abs32(yf - target_q8_) > kLongHalfFarQ8) min_half = horizon_ticks_ >> 1;
+                                : (first_settled_half || noisy_dead_time ? horizon_ticks_ : horizon_ticks_ >> 1);
+  const int32_t min_half = hl > kTicksPerBin ? hl : kTicksPerBin;
   if (relay_hi_) {
     if (yf < cyc_min_q8_) cyc_min_q8_ = yf;
     if (yf > target_q8_ + hysteresis && half_ticks_ >= min_half) {

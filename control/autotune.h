@@ -23,7 +23,7 @@
 //             bin's heat from the target), then twice the slow law's gain
 //   relay     biased relay (levels bias ± d, hysteresis ±0.2 °C on a 4-reading mean, wider on a
 //             noisy sensor; with a trusted model no half shorter than L̂/2, or L̂ on a
-//             dead-time hotend read through σ > 0.3 °C noise) around the
+//             dead-time hotend read through σ > 0.3 °C noise while within 2 °C) around the
 //             target; bias = last cycle's mean duty, d for ±1.5 °C, a drifting relay re-biased
 //             from its drift; one settling cycle, then max(2, C − 3) measured. No settling cycle
 //             after an approach that settled (deadbeat or lag-type): a first low half ≥ L̂, and d

@@ -70,7 +70,7 @@ constexpr uint16_t kQuietNoiseQ8 = 38;
 constexpr uint8_t kDriftSigmaQ4 = 6;
 // The relay's longer minimum half (relay_tick): measured σ above 0.3 °C (Q8; the estimate reads
 // σ 0.3 as ≈ 0.27), on a hotend whose L̂/T (probe horizon over the learnt time constant) is ≥ 0.2.
-constexpr uint16_t kLongHalfNoiseQ8 = 76;
+constexpr uint16_t kLongHalfNoiseQ8 = Autotune::kNoisyQ8;
 constexpr uint32_t kLongHalfLOverTQ16 = 13107;
 constexpr int32_t kLongHalfFarQ8 = 2 * kQ8;
 constexpr uint8_t kGuardSigmaQ4 = 3;
@@ -1562,6 +1562,7 @@ bool Autotune::compute_chunk() {
       result_.ambient_q8 = ambient_q8_;
       result_.hot_start = hot_start_;
       result_.unsure = untrusted_;
+      result_.noise_q8 = noise_n_ >= 16 ? noise_q8_ : AutotuneResult::kNoiseUnmeasured;
       return true;
   }
 }

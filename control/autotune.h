@@ -101,6 +101,9 @@ struct AutotuneResult {
                             // model to control with, not one to bound the heater tightly by
   bool late_peak;           // a cold cut probe peaked 2.5–4 × the relay's D after the cut: a lag
                             // the relay's FOPDT folded into too short a D (hotend40w-delay5)
+  uint16_t noise_q8;        // reading noise σ measured before the probe's response (°C × 256),
+                            // kNoiseUnmeasured when that came within 16 readings
+  static constexpr uint16_t kNoiseUnmeasured = 0xFFFF;
 };
 
 class Autotune {
@@ -113,6 +116,9 @@ class Autotune {
   static constexpr uint8_t kMaxStoredCycles = 6;  // cycles kept for the T/L fit (the last ones)
   static constexpr uint8_t kRingBins = 72;        // duty history: ≥ the longest horizon, in bins
   static constexpr uint8_t kTicksPerBin = 8;      // 1.024 s at 128 ms
+  // Reading noise σ above 0.3 °C (Q8; the estimate reads σ 0.3 as ≈ 0.27): a noisy sensor, on
+  // which a dead-time hotend's relay halves last at least L̂ and M303 says so.
+  static constexpr uint16_t kNoisyQ8 = 76;
 
   constexpr Autotune() = default;
 
@@ -377,7 +383,7 @@ class Autotune {
 
   AutotuneCycle cycle_{0, 0, 0, 0};
   AutotuneUltimate ultimate_{0, 0};
-  AutotuneResult result_{{0, 0, 0, 0}, 0, {0, 0}, 0, false, false, false};
+  AutotuneResult result_{{0, 0, 0, 0}, 0, {0, 0}, 0, false, false, false, 0};
 };
 
 }  // namespace control

@@ -52,6 +52,15 @@ __attribute__((noinline)) void write_design(gcode::Output& out, const control::A
                         : GCODE_TEXT("model (cold start: heat-up, relay"));
   out.print(r.model.fan_loss_pct_q8 != 0 ? GCODE_TEXT(", part fan): ") : GCODE_TEXT("): "));
   write_m307(out, r.model);
+  // The reading noise the tune measured (σ, °C): above 0.3 °C a thermistor or its wiring is
+  // noisy enough to cost the model accuracy (docs/autotune.md, "Noisy sensors").
+  if (r.noise_q8 != control::AutotuneResult::kNoiseUnmeasured) {
+    out.print(echo_autotune_text());
+    out.print(GCODE_TEXT("reading noise "));
+    out.write_q8(r.noise_q8);
+    out.print(r.noise_q8 > control::Autotune::kNoisyQ8 ? GCODE_TEXT(" C (sigma): noisy, check the thermistor and its wiring\n")
+                                                       : GCODE_TEXT(" C (sigma)\n"));
+  }
   out.print(echo_autotune_text());
   out.print(GCODE_TEXT("PID (SIMC PI on that model, dead time "));
   out.write_q8(d.model.dead_time_q8);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 
@@ -172,6 +173,22 @@ TEST(AutotuneCommand, WhileTuningTargetAndControllerChangesAreRefusedReportsStil
   EXPECT_GT(rig.machine.duty_q16, 0);
 }
 
+// The reading noise the tune measured is reported; above 0.3 °C, with a hint where to look (a
+// noisy thermistor costs the model accuracy: docs/autotune.md, "Noisy sensors").
+TEST(AutotuneCommand, ReportsTheReadingNoiseAndCallsANoisySensorOut) {
+  TuneRig rig(fast_fopdt());
+  rig.plant.set_noise(0.5);
+  EXPECT_EQ(rig.send("M303 E0 S210 C3 U0\n"), "PID Autotune start\nok\n");
+  const std::string text = rig.run_tune();
+  SCOPED_TRACE(text);
+  const size_t at = text.find("echo:Autotune reading noise ");
+  ASSERT_NE(at, std::string::npos);
+  const double sigma = std::atof(text.c_str() + at + 28);
+  EXPECT_NEAR(sigma, 0.5, 0.1);  // the estimator reads σ 0.5 about 9 % low
+  EXPECT_TRUE(has(text, " C (sigma): noisy, check the thermistor and its wiring\n"));
+  EXPECT_TRUE(has(text, "PID Autotune finished!"));
+}
+
 TEST(AutotuneCommand, U1FinishesInMarlinsWordsAndAppliesModelGainsAndController) {
   TuneRig rig(fast_fopdt());
   rig.machine.fan = 77;  // the user's fan comes back afterwards
@@ -189,6 +206,9 @@ TEST(AutotuneCommand, U1FinishesInMarlinsWordsAndAppliesModelGainsAndController)
   EXPECT_TRUE(has(text, "#define DEFAULT_Ki "));
   EXPECT_TRUE(has(text, "#define DEFAULT_Kd "));
   EXPECT_TRUE(has(text, "echo:Autotune model (cold start"));
+  EXPECT_TRUE(has(text, "echo:Autotune reading noise 0.0"));  // the rig's σ 0.05 °C
+  EXPECT_TRUE(has(text, " C (sigma)\n"));
+  EXPECT_FALSE(has(text, "noisy"));
   EXPECT_TRUE(has(text, "echo:Autotune applied (U1)"));
   EXPECT_FALSE(has(text, "Error:"));
   EXPECT_LE(rig.max_c, 215.0);

@@ -673,6 +673,16 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
     // no measure of the trend guard's horizon either: the longest.
     if (near(probe_).retries != 0 && !hot_start_) untrusted_ = true;
     guard_bins_ = static_cast<uint8_t>(horizon_bins_ > 62 || untrusted_ ? 132 : 2 * horizon_bins_ + 8);
+    // A cold cut probe with a flat peak more than 4 × later after the cut than its response showed
+    // after the pulse began: a sensor lag, not a dead time (which delays both alike). Two lags
+    // τ1 ≫ τ2 peak at 2–3 τ2 (compute's lag rule, peak/2.5), and at a steady heating rate the lag
+    // holds back only rate × τ2: a dead time of L̂ over-predicts the heat in flight 2.5 ×, cut
+    // heavy-slow's full power 80 °C short and paced its P law 2.5 × too slow (approach 1,038 s).
+    // The approach runs on τ2 = 2L̂/5 instead: its in-flight heat, gain, loss learning and hand-over.
+    // (The relay keeps L̂: its d from τ2 saved 16 s and peaked 0.5 °C higher.)
+    ap.lag_probe = !probe_.continuous && !hot_start_ && probe_.retries == 0 && probe_.max_tick == 0 &&
+                   horizon_ticks_ > 4 * kTicksPerBin * static_cast<int32_t>(probe_.det_bin);
+    ap.bins = ap.lag_probe ? static_cast<uint8_t>((2 * horizon_bins_ + 2) / 5) : horizon_bins_;
     extend_timeout();
     set_approach_gain();
     return 21;
@@ -746,10 +756,11 @@ void Autotune::extend_timeout() {
   if (half > t600_) t600_ = static_cast<uint16_t>(clamp_half_ticks(half));
 }
 
-// Approach: closed-loop time constant = the horizon (≥ 3 bins); P gain 1/(S·τ). One division:
-// S ≤ 2^15 (clamped where it is learnt) × τ ≤ 77 < 2^22.
+// Approach: closed-loop time constant = 1.25 × its response time (≥ 3 bins); P gain 1/(S·τ). One
+// division: S ≤ 2^15 (clamped where it is learnt) × τ ≤ 77 < 2^22.
 void Autotune::set_approach_gain() {
-  const uint8_t tau = static_cast<uint8_t>(horizon_bins_ < 3 ? 3 : horizon_bins_ + horizon_bins_ / 4);
+  const uint8_t hb = appr_.bins;
+  const uint8_t tau = static_cast<uint8_t>(hb < 3 ? 3 : hb + hb / 4);
   const uint32_t g = (uint32_t{1} << 24) / (static_cast<uint32_t>(slope_q8_) * tau);
   appr_.gain_q8 = static_cast<int32_t>(g > 40000 ? 40000 : g);
 }
@@ -848,16 +859,17 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
     case 2:
       model_anchor();
       return 3;
-    case 3:
+    case 3: {
       // Loss learning near the target, where the heater is not at full power: the model's slope
       // S·u(t − L̂) − x/T against the reading's 4-bin slope; the error moves 1/T by ⅛ per bin.
       // This keeps the model's steady state on the real one, so the predictor holds the target
       // exactly. Only while the duty has been steady (within 8 %) over L̂ + 6 bins: in transients
       // a dead time that is off by a bin would pass for a loss error.
-      if (ap.full_bins == 0 && rise > 20 * kQ8 && ap.steady_bins >= horizon_bins_ + 6) {
+      const uint8_t hb = ap.bins;
+      if (ap.full_bins == 0 && rise > 20 * kQ8 && ap.steady_bins >= hb + 6) {
         const int32_t s4 = slope4_q8();
         const int32_t centre = rise - 2 * s4;
-        const int32_t model_slope = heat_q8(duty_ago(horizon_bins_ + 2)) -
+        const int32_t model_slope = heat_q8(duty_ago(hb + 2)) -
                                     fixed::mul_q16(centre, inv_t_q16_);
         const int32_t err = model_slope - s4;  // > 0: more loss than the model has
         // |err| ≤ 2^18 (clamped) × 2^13 < 2^31.
@@ -865,6 +877,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         inv_t_q16_ = static_cast<uint16_t>(fixed::clamp(static_cast<int32_t>(inv_t_q16_) + (err > 0 ? step : -step), int32_t{0}, int32_t{16384}));
       }
       return 4;
+    }
     case 4:
       // Loss learning while at full power (the slope falls as the loss grows): 1/T = Δslope/Δrise
       // between a reference 4-bin slope taken once the heat-up runs at full power and the latest,
@@ -906,7 +919,10 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       ap.steady_q16 = steady_from_model();
       return 6;
     case 6: {
-      const int32_t predicted = y_bin_q8_ + model_ago(0) - model_delayed();
+      // (A lag probe's in-flight heat 2/5 of the L̂ model's; |in_flight| < 2^20.)
+      int32_t in_flight = model_ago(0) - model_delayed();
+      if (ap.lag_probe) in_flight = fixed::mul_q16(in_flight, 26214);
+      const int32_t predicted = y_bin_q8_ + in_flight;
       int32_t ex = fixed::clamp(target_q8_ - predicted, -200 * kQ8, 200 * kQ8);
       if (untrusted_) {
         // The reading's own trend over the guard horizon must stay below the target: an
@@ -922,7 +938,8 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         // A trusted cut probe's first approach: deadbeat on the model (gain 1/S: full power until
         // the undelayed prediction is within a bin's heat of the target, that bin's exact duty),
         // then the slow law from the first unsaturated bin on.
-        const uint32_t fast = static_cast<uint32_t>(gain) * (horizon_bins_ < 3 ? 3u : horizon_bins_ + horizon_bins_ / 4u);
+        const uint8_t hb = ap.bins;
+        const uint32_t fast = static_cast<uint32_t>(gain) * (hb < 3 ? 3u : hb + hb / 4u);
         gain = static_cast<int32_t>(fast > 40000 ? 40000 : fast);
         // The duty set now starts ¾ of a bin late (this is the bin's 6th step): the heat the
         // present duty still adds above ū's until then counts as in flight too.
@@ -954,7 +971,8 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         if (ap.side != 0) ++ap.crossings;
         ap.side = side;
       }
-      return ap.settled_bins >= horizon_bins_ + 2 || ap.near_bins >= 3 * (horizon_bins_ + 2) || ap.crossings >= 2 ? 7 : 0;
+      const uint8_t hb = ap.bins;
+      return ap.settled_bins >= hb + 2 || ap.near_bins >= 3 * (hb + 2) || ap.crossings >= 2 ? 7 : 0;
     }
     default: {
       ap.crossings = 0;
@@ -967,7 +985,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // half goes low, and the cycle from its end on is measured, for once that half has lasted
       // L̂ the in-flight heat is the relay's own, as in any later cycle. Otherwise a settling
       // cycle first (an approach that left by its crossings or its stall).
-      const bool settled = ap.settled_bins >= horizon_bins_ + 2;
+      const bool settled = ap.settled_bins >= ap.bins + 2;
       settling_cycles_ = settled && !untrusted_ && (ap.landed == 1 || probe_.continuous) ? 0 : kSettlingCycles;
       relay_hi_ = settling_cycles_ != 0 && y_bin_q8_ < target_q8_;
       stall_ref_q8_ = y_bin_q8_;  // the first half's stall test measures progress from here

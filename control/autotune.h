@@ -20,7 +20,8 @@
 //             model-vs-reading slope when the duty is steady); then the fan part starts here too.
 //             After a cold cut probe with a sharp peak (L̂ to the tick, the predictor's delay
 //             interpolated between bins): deadbeat (full power until the undelayed model is a
-//             bin's heat from the target), then twice the slow law's gain
+//             bin's heat from the target), then twice the slow law's gain. A cut probe that
+//             peaked late against its response (a sensor lag): the lag, 2L̂/5, in place of L̂
 //   relay     biased relay (levels bias ± d, hysteresis ±0.2 °C on a 4-reading mean, wider on a
 //             noisy sensor; with a trusted model no half shorter than L̂/2, or L̂ on a
 //             dead-time hotend read through σ > 0.3 °C noise while within 2 °C) around the
@@ -153,6 +154,9 @@ class Autotune {
   uint16_t inv_t_q16() const { return inv_t_q16_; }         // 1/T per bin, Q16
   uint8_t overruns() const { return overruns_; }  // bin logic not finished within its bin (0)
   uint16_t noise_q8() const { return noise_q8_; }  // reading noise σ measured so far (°C × 256)
+  bool untrusted() const { return untrusted_; }     // the probe's model is not trusted (trend guard)
+  uint8_t approach_law() const { return appr_.landed; }  // 0 deadbeat, 1 landed, 2 the slow law
+  bool lag_probe() const { return appr_.lag_probe; }
 
  private:
   struct StoredCycle {
@@ -333,6 +337,8 @@ class Autotune {
     uint8_t steady_bins;     // bins the duty has stayed near steady_ref
     int16_t steady_ref;
     int8_t side;
+    bool lag_probe;          // a cold cut probe that peaked late against its response (a sensor lag)
+    uint8_t bins;            // the approach's response time in bins: L̂, or a lag probe's 2L̂/5
   };
   Approach appr_ = {};
   int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)

@@ -137,9 +137,9 @@ TuneRun run(const Plant& p, uint8_t cycles = 3, bool fan = true, double noise = 
     if (out.fan_duty > 0 && r.fan_s == 0) r.fan_s = sim.time_s() - t0;
     if (out.event == control::AutotuneEvent::kCycle || out.event == control::AutotuneEvent::kUltimate) ++r.cycles;
     if (trace && (i % 8 == 0 || out.event != control::AutotuneEvent::kNone)) {
-      std::printf("%7.1f ph%d y %7.2f duty %5.3f fan %3d S %d L %d invT %d ev %d\n", sim.time_s() - t0,
+      std::printf("%7.1f ph%d y %7.2f duty %5.3f fan %3d S %d L %d invT %d ev %d untrusted %d law %d lag %d\n", sim.time_s() - t0,
                   static_cast<int>(at.phase()), sim.true_c(), out.duty_q16 / 65535.0, out.fan_duty, at.slope_q8(),
-                  at.horizon_ticks(), at.inv_t_q16(), static_cast<int>(out.event));
+                  at.horizon_ticks(), at.inv_t_q16(), static_cast<int>(out.event), at.untrusted(), at.approach_law(), at.lag_probe());
     }
     if (out.state != AutotuneState::kRunning) {
       r.state = out.state;
@@ -322,6 +322,25 @@ TEST(AutotuneApproach, FopdtDeadTimePlantsLandWithinHeatupPlusFourAndAHalfL) {
   }
 }
 
+// heavy-slow's cut probe (a 25 s sensor lag on a 286 s block) peaks flat 66 s after the cut but
+// shows its response within 5 s of the pulse: a lag, not a dead time, which holds back only
+// ≈ L̂/2.5 of heat in flight. With the whole L̂ as the predictor's dead time the approach cut full
+// power 80 °C short, then crawled (P law paced by L̂): 650–1,040 s from the probe to the relay on
+// these realisations (σ 0.1 °C); 400–455 s with the lag's share (docs/autotune.md).
+TEST(AutotuneApproach, ALagTypeProbeApproachesOnTheLagNotOnTheCutToPeakTime) {
+  const std::vector<Plant> ps = plants();
+  const auto heavy = std::find_if(ps.begin(), ps.end(), [](const Plant& p) { return p.name == "heavy-slow"; });
+  ASSERT_NE(heavy, ps.end());
+  for (const unsigned long long seed : {12345ULL, 1ULL, 2ULL, 3ULL, 4ULL, 5ULL, 6ULL, 7ULL}) {
+    const TuneRun r = run(*heavy, 5, true, 0.1, false, 1.0, -1, false, 1800, seed);
+    std::printf("seed %5llu: approach %.1f s, tune %.1f s, max S + %.2f\n", seed, r.relay_s - r.approach_s, r.duration_s,
+                r.max_c - heavy->target_c);
+    EXPECT_EQ(r.state, AutotuneState::kFinished) << seed;
+    EXPECT_LE(r.relay_s - r.approach_s, 500.0) << seed;
+    EXPECT_LE(r.max_c, heavy->target_c + 2.0) << seed;
+  }
+}
+
 // M303's default effort (C5, F1): the tune's duration per plant against issue 7's target (≤ 4 min
 // on hotend40w-class plants, ≤ the full-power heat-up + 3 min elsewhere, 2 × that on seed000).
 // Where it is met, the target is asserted; elsewhere a ceiling ~10 % above the figure measured
@@ -333,11 +352,12 @@ TEST(AutotuneApproach, FopdtDeadTimePlantsLandWithinHeatupPlusFourAndAHalfL) {
 // 336, the rest unchanged; with the full-power approach after a probe that showed no loss:
 // fopdt-120-25 657, two-node-delay5 547; with the untrusted approach's heater off above the
 // target: seed000-4 2344 → 2917 on this noise realisation, −1.4..+0.1 % mean over 20 others at
-// σ 0.1–0.3), so a slower tune fails here.
+// σ 0.1–0.3; with a lag-type probe's approach paced by the lag: heavy-slow 1586 → 951), so a
+// slower tune fails here.
 TEST(AutotuneDuration, DefaultEffortC5PerPlant) {
   const std::map<std::string, double> ceiling = {
       {"seed002", 370},      {"seed004", 370},       {"seed003", 295},       {"fopdt-300-10", 570},
-      {"fopdt-120-25", 725}, {"heavy-slow", 1750},  {"two-node-delay5", 605}, {"seed000-4", 3000},
+      {"fopdt-120-25", 725}, {"heavy-slow", 1050},  {"two-node-delay5", 605}, {"seed000-4", 3000},
       {"seed000-5", 2795}};
   std::printf("%-16s %7s %7s %6s %8s %7s %7s %7s\n", "plant", "tune s", "target", "max-S", "approach", "relay", "fan", "heatup");
   for (const Plant& p : plants()) {

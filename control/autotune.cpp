@@ -673,16 +673,23 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
     // no measure of the trend guard's horizon either: the longest.
     if (near(probe_).retries != 0 && !hot_start_) untrusted_ = true;
     guard_bins_ = static_cast<uint8_t>(horizon_bins_ > 62 || untrusted_ ? 132 : 2 * horizon_bins_ + 8);
-    // A cold cut probe with a flat peak more than 4 × later after the cut than its response showed
-    // after the pulse began: a sensor lag, not a dead time (which delays both alike). Two lags
-    // τ1 ≫ τ2 peak at 2–3 τ2 (compute's lag rule, peak/2.5), and at a steady heating rate the lag
-    // holds back only rate × τ2: a dead time of L̂ over-predicts the heat in flight 2.5 ×, cut
-    // heavy-slow's full power 80 °C short and paced its P law 2.5 × too slow (approach 1,038 s).
-    // The approach runs on τ2 = 2L̂/5 instead: its in-flight heat, gain, loss learning and hand-over.
-    // (The relay keeps L̂: its d from τ2 saved 16 s and peaked 0.5 °C higher.)
+    // A cold cut probe whose flat peak comes over 1.5 × later after the cut than its response
+    // showed after the pulse began: a dead time D delays both alike, a sensor lag τ2 shows at once
+    // but peaks late (two lags τ1 ≫ τ2 at 2–3 τ2: compute's lag rule, τ2 = peak/2.5). So D ≈ the
+    // detection time and τ2 ≈ (L̂ − D)/2.5, and at a steady heating rate the heat in flight is
+    // rate × (D + τ2), not rate × L̂: the approach runs on D + τ2 = (2L̂ + 3D)/5 (its gain, loss
+    // learning and hand-over) and takes 2/5 of the L̂ model's heat in flight plus 3/5 of the last
+    // D's (step 6). On L̂ the predictor over-predicted it: heavy-slow's full power (D 5 s, L̂ 66 s)
+    // cut 80 °C short and its P law crawled (approach 1,038 s); two-node-delay5's (7 s, 22 s) P
+    // law crawled the last 10 °C. The relay, the time limits and compute keep L̂. Only on a quiet
+    // sensor: at σ 0.5 °C a loss learnt at full power a third high carried the faster P law to
+    // S + 6..7.6 °C (heavy-slow, two-node-delay5), 1–2 °C before.
+    const uint8_t det_bins = static_cast<uint8_t>(near(probe_).det_bin < horizon_bins_ ? near(probe_).det_bin + 1 : horizon_bins_);
     ap.lag_probe = !probe_.continuous && !hot_start_ && probe_.retries == 0 && probe_.max_tick == 0 &&
-                   horizon_ticks_ > 4 * kTicksPerBin * static_cast<int32_t>(probe_.det_bin);
-    ap.bins = ap.lag_probe ? static_cast<uint8_t>((2 * horizon_bins_ + 2) / 5) : horizon_bins_;
+                   noise_q8_ <= kQuietNoiseQ8 && 2 * horizon_ticks_ > 3 * kTicksPerBin * static_cast<int32_t>(probe_.det_bin);
+    ap.det_bins = det_bins;
+    // ÷5 as ·13108/2^16, exact for numerators < 2^14 (here ≤ 1,279; a division costs ~200 cycles).
+    ap.bins = ap.lag_probe ? static_cast<uint8_t>(((2u * horizon_bins_ + 3u * det_bins + 4u) * uint32_t{13108}) >> 16) : horizon_bins_;
     extend_timeout();
     set_approach_gain();
     return 21;
@@ -855,6 +862,8 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
   switch (stage) {
     case 1:
       model_bin();
+      // A lag probe's heat in flight over the last D, for step 6 (here: the shortest step).
+      if (ap.lag_probe) ap.det_flight_q8 = fixed::mul_q16(model_ago(0) - model_ago(ap.det_bins), 39322);
       return 2;
     case 2:
       model_anchor();
@@ -919,9 +928,9 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       ap.steady_q16 = steady_from_model();
       return 6;
     case 6: {
-      // (A lag probe's in-flight heat 2/5 of the L̂ model's; |in_flight| < 2^20.)
+      // (A lag probe's heat in flight: 2/5 of the L̂ model's + 3/5 of the last D's; each < 2^20.)
       int32_t in_flight = model_ago(0) - model_delayed();
-      if (ap.lag_probe) in_flight = fixed::mul_q16(in_flight, 26214);
+      if (ap.lag_probe) in_flight = fixed::mul_q16(in_flight, 26214) + ap.det_flight_q8;
       const int32_t predicted = y_bin_q8_ + in_flight;
       int32_t ex = fixed::clamp(target_q8_ - predicted, -200 * kQ8, 200 * kQ8);
       if (untrusted_) {

@@ -21,7 +21,7 @@
 //             After a cold cut probe with a sharp peak (L̂ to the tick, the predictor's delay
 //             interpolated between bins): deadbeat (full power until the undelayed model is a
 //             bin's heat from the target), then twice the slow law's gain. A cut probe that
-//             peaked late against its response (a sensor lag): the lag, 2L̂/5, in place of L̂
+//             peaked late against its response D (a sensor lag, quiet sensor): D + (L̂ − D)/2.5
 //   relay     biased relay (levels bias ± d, hysteresis ±0.2 °C on a 4-reading mean, wider on a
 //             noisy sensor; with a trusted model no half shorter than L̂/2, or L̂ on a
 //             dead-time hotend read through σ > 0.3 °C noise while within 2 °C) around the
@@ -157,6 +157,9 @@ class Autotune {
   bool untrusted() const { return untrusted_; }     // the probe's model is not trusted (trend guard)
   uint8_t approach_law() const { return appr_.landed; }  // 0 deadbeat, 1 landed, 2 the slow law
   bool lag_probe() const { return appr_.lag_probe; }
+  uint16_t det_bin() const { return probe_.det_bin; }
+  uint16_t max_tick() const { return probe_.max_tick; }
+  uint16_t off_tick() const { return probe_.off_tick; }
 
  private:
   struct StoredCycle {
@@ -338,7 +341,9 @@ class Autotune {
     int16_t steady_ref;
     int8_t side;
     bool lag_probe;          // a cold cut probe that peaked late against its response (a sensor lag)
-    uint8_t bins;            // the approach's response time in bins: L̂, or a lag probe's 2L̂/5
+    uint8_t bins;            // the approach's response time in bins: L̂, or a lag probe's (2L̂ + 3D)/5
+    uint8_t det_bins;        // D: the probe's pulse-to-response time in bins
+    int32_t det_flight_q8;   // 3/5 of the model's rise over the last D bins (stage 2 for stage 6)
   };
   Approach appr_ = {};
   int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)

@@ -132,7 +132,7 @@ TuneRun run(const Plant& p, uint8_t cycles = 3, bool fan = true, double noise = 
   for (int i = 0; i < 160000; ++i) {
     const double m = sim.measured_c();
     const control::AutotuneOutput out = at.step(static_cast<int32_t>(std::lround(m * 256)));
-    if (at.phase() == Autotune::Phase::kApproach && r.approach_s == 0) r.approach_s = sim.time_s() - t0;
+    if (at.phase() == Autotune::Phase::kApproach && r.approach_s == 0) { r.approach_s = sim.time_s() - t0; if (std::getenv("DETP")) std::printf("DET %s det %d L %d max %d off %d lag %d\n", p.name.c_str(), at.det_bin()*8, at.horizon_ticks(), at.max_tick(), at.off_tick(), at.lag_probe()); }
     if (at.phase() == Autotune::Phase::kRelay && r.relay_s == 0) r.relay_s = sim.time_s() - t0;
     if (out.fan_duty > 0 && r.fan_s == 0) r.fan_s = sim.time_s() - t0;
     if (out.event == control::AutotuneEvent::kCycle || out.event == control::AutotuneEvent::kUltimate) ++r.cycles;
@@ -322,22 +322,27 @@ TEST(AutotuneApproach, FopdtDeadTimePlantsLandWithinHeatupPlusFourAndAHalfL) {
   }
 }
 
-// heavy-slow's cut probe (a 25 s sensor lag on a 286 s block) peaks flat 66 s after the cut but
-// shows its response within 5 s of the pulse: a lag, not a dead time, which holds back only
-// ≈ L̂/2.5 of heat in flight. With the whole L̂ as the predictor's dead time the approach cut full
-// power 80 °C short, then crawled (P law paced by L̂): 650–1,040 s from the probe to the relay on
-// these realisations (σ 0.1 °C); 400–455 s with the lag's share (docs/autotune.md).
+// Cut probes that peak late against their response (a sensor lag, not a dead time): heavy-slow
+// (a 25 s lag on a 286 s block: response 5 s after the pulse began, peak 66 s after the cut) and
+// two-node-delay5 (5 s transport delay, then a 4.6 s lag: 7 s and 22 s). With L̂ as the
+// predictor's dead time the approach over-predicted the heat in flight: heavy-slow cut full power
+// 80 °C short and crawled, two-node-delay5 crawled its last 10 °C; from the probe to the relay
+// (σ 0.1 °C, these realisations) 650–1,040 and 250–300 s. On D + (L̂ − D)/2.5 (docs/autotune.md)
+// 417–444 and 164–186 s.
 TEST(AutotuneApproach, ALagTypeProbeApproachesOnTheLagNotOnTheCutToPeakTime) {
-  const std::vector<Plant> ps = plants();
-  const auto heavy = std::find_if(ps.begin(), ps.end(), [](const Plant& p) { return p.name == "heavy-slow"; });
-  ASSERT_NE(heavy, ps.end());
-  for (const unsigned long long seed : {12345ULL, 1ULL, 2ULL, 3ULL, 4ULL, 5ULL, 6ULL, 7ULL}) {
-    const TuneRun r = run(*heavy, 5, true, 0.1, false, 1.0, -1, false, 1800, seed);
-    std::printf("seed %5llu: approach %.1f s, tune %.1f s, max S + %.2f\n", seed, r.relay_s - r.approach_s, r.duration_s,
-                r.max_c - heavy->target_c);
-    EXPECT_EQ(r.state, AutotuneState::kFinished) << seed;
-    EXPECT_LE(r.relay_s - r.approach_s, 500.0) << seed;
-    EXPECT_LE(r.max_c, heavy->target_c + 2.0) << seed;
+  struct Case { const char* plant; double approach_s; };
+  for (const Case c : {Case{"heavy-slow", 500}, Case{"two-node-delay5", 220}}) {
+    const std::vector<Plant> ps = plants();
+    const auto p = std::find_if(ps.begin(), ps.end(), [&](const Plant& q) { return q.name == c.plant; });
+    ASSERT_NE(p, ps.end());
+    for (const unsigned long long seed : {12345ULL, 1ULL, 2ULL, 3ULL, 4ULL, 5ULL, 6ULL, 7ULL}) {
+      const TuneRun r = run(*p, 5, true, 0.1, false, 1.0, -1, false, 1800, seed);
+      std::printf("%-16s seed %5llu: approach %.1f s, tune %.1f s, max S + %.2f\n", c.plant, seed, r.relay_s - r.approach_s,
+                  r.duration_s, r.max_c - p->target_c);
+      EXPECT_EQ(r.state, AutotuneState::kFinished) << c.plant << " seed " << seed;
+      EXPECT_LE(r.relay_s - r.approach_s, c.approach_s) << c.plant << " seed " << seed;
+      EXPECT_LE(r.max_c, p->target_c + 2.0) << c.plant << " seed " << seed;
+    }
   }
 }
 
@@ -352,12 +357,12 @@ TEST(AutotuneApproach, ALagTypeProbeApproachesOnTheLagNotOnTheCutToPeakTime) {
 // 336, the rest unchanged; with the full-power approach after a probe that showed no loss:
 // fopdt-120-25 657, two-node-delay5 547; with the untrusted approach's heater off above the
 // target: seed000-4 2344 → 2917 on this noise realisation, −1.4..+0.1 % mean over 20 others at
-// σ 0.1–0.3; with a lag-type probe's approach paced by the lag: heavy-slow 1586 → 951), so a
-// slower tune fails here.
+// σ 0.1–0.3; with a lag-type probe's approach on the lag: heavy-slow 1586 → 981, two-node-delay5
+// 547 → 444), so a slower tune fails here.
 TEST(AutotuneDuration, DefaultEffortC5PerPlant) {
   const std::map<std::string, double> ceiling = {
       {"seed002", 370},      {"seed004", 370},       {"seed003", 295},       {"fopdt-300-10", 570},
-      {"fopdt-120-25", 725}, {"heavy-slow", 1050},  {"two-node-delay5", 605}, {"seed000-4", 3000},
+      {"fopdt-120-25", 725}, {"heavy-slow", 1050},  {"two-node-delay5", 490}, {"seed000-4", 3000},
       {"seed000-5", 2795}};
   std::printf("%-16s %7s %7s %6s %8s %7s %7s %7s\n", "plant", "tune s", "target", "max-S", "approach", "relay", "fan", "heatup");
   for (const Plant& p : plants()) {

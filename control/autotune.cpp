@@ -20,7 +20,9 @@
 //   a step with no piece pending ≈ 460–530; the step that completes a bin ≤ 1,500
 //   baseline ≤ 1,360; probe ≤ 1,490; hand-over ≤ 1,470; approach ≤ 1,755 (loss learning: a
 //   division, a mul_q16 and a 32×16 multiply); relay ≤ 1,720 (bias nudge), a cycle's end
-//   ≤ 1,640; compute ≤ 1,865 (the T division with its normalising shifts)
+//   ≤ 1,640; compute ≤ 1,865 (the T division with its normalising shifts). A lag probe's
+//   approach adds a mul_q16 to its stages 1 and 6 (2026-12-05; whole control step in simavr
+//   ≤ 2,797 on heavy-slow, 2,790 on hotend40w-delay5)
 // That is over the ~1,500 aimed at by up to ~370 cycles: the fixed part of every step (~460) is
 // the next thing to trim (see the report).
 #include "control/autotune.h"
@@ -688,7 +690,8 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
     ap.lag_probe = !probe_.continuous && !hot_start_ && probe_.retries == 0 && probe_.max_tick == 0 &&
                    noise_q8_ <= kQuietNoiseQ8 && 2 * horizon_ticks_ > 3 * kTicksPerBin * static_cast<int32_t>(probe_.det_bin);
     ap.det_bins = det_bins;
-    // ÷5 as ·13108/2^16, exact for numerators < 2^14 (here ≤ 1,279; a division costs ~200 cycles).
+    // ÷5 (rounded up) as ·13108/2^16, exact for numerators < 2^14 (here ≤ 354; a division costs ~200
+    // cycles).
     ap.bins = ap.lag_probe ? static_cast<uint8_t>(((2u * horizon_bins_ + 3u * det_bins + 4u) * uint32_t{13108}) >> 16) : horizon_bins_;
     extend_timeout();
     set_approach_gain();
@@ -764,7 +767,7 @@ void Autotune::extend_timeout() {
 }
 
 // Approach: closed-loop time constant = 1.25 × its response time (≥ 3 bins); P gain 1/(S·τ). One
-// division: S ≤ 2^15 (clamped where it is learnt) × τ ≤ 77 < 2^22.
+// division: S ≤ 2^15 (clamped where it is learnt) × τ ≤ 87 < 2^22.
 void Autotune::set_approach_gain() {
   const uint8_t hb = appr_.bins;
   const uint8_t tau = static_cast<uint8_t>(hb < 3 ? 3 : hb + hb / 4);
@@ -862,7 +865,9 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
   switch (stage) {
     case 1:
       model_bin();
-      // A lag probe's heat in flight over the last D, for step 6 (here: the shortest step).
+      // A lag probe's heat in flight over the last D, for step 6 (here: the shortest step). Used
+      // once the last D bins are the approach's own: the history before it is filled lazily,
+      // oldest first (model_anchor), so its recent entries are not there yet.
       if (ap.lag_probe) ap.det_flight_q8 = fixed::mul_q16(model_ago(0) - model_ago(ap.det_bins), 39322);
       return 2;
     case 2:
@@ -930,7 +935,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
     case 6: {
       // (A lag probe's heat in flight: 2/5 of the L̂ model's + 3/5 of the last D's; each < 2^20.)
       int32_t in_flight = model_ago(0) - model_delayed();
-      if (ap.lag_probe) in_flight = fixed::mul_q16(in_flight, 26214) + ap.det_flight_q8;
+      if (ap.lag_probe && bins_ > ap.det_bins) in_flight = fixed::mul_q16(in_flight, 26214) + ap.det_flight_q8;
       const int32_t predicted = y_bin_q8_ + in_flight;
       int32_t ex = fixed::clamp(target_q8_ - predicted, -200 * kQ8, 200 * kQ8);
       if (untrusted_) {

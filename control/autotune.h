@@ -157,9 +157,6 @@ class Autotune {
   bool untrusted() const { return untrusted_; }     // the probe's model is not trusted (trend guard)
   uint8_t approach_law() const { return appr_.landed; }  // 0 deadbeat, 1 landed, 2 the slow law
   bool lag_probe() const { return appr_.lag_probe; }
-  uint16_t det_bin() const { return probe_.det_bin; }
-  uint16_t max_tick() const { return probe_.max_tick; }
-  uint16_t off_tick() const { return probe_.off_tick; }
 
  private:
   struct StoredCycle {
@@ -343,7 +340,7 @@ class Autotune {
     bool lag_probe;          // a cold cut probe that peaked late against its response (a sensor lag)
     uint8_t bins;            // the approach's response time in bins: L̂, or a lag probe's (2L̂ + 3D)/5
     uint8_t det_bins;        // D: the probe's pulse-to-response time in bins
-    int32_t det_flight_q8;   // 3/5 of the model's rise over the last D bins (stage 2 for stage 6)
+    int32_t det_flight_q8;   // 3/5 of the model's rise over the last D bins (stage 1 for stage 6)
   };
   Approach appr_ = {};
   int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)

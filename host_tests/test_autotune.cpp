@@ -95,6 +95,7 @@ struct TuneRun {
   control::AutotuneResult result{};
   int cycles = 0;
   double approach_s = 0, relay_s = 0, fan_s = 0;  // when each began
+  bool lag_probe = false;  // the approach took the probe for a sensor lag (D + (L̂ − D)/2.5)
   double max_at_s = 0;
   int overruns = 0;  // bins whose staged logic did not finish before the next bin
 };
@@ -132,7 +133,10 @@ TuneRun run(const Plant& p, uint8_t cycles = 3, bool fan = true, double noise = 
   for (int i = 0; i < 160000; ++i) {
     const double m = sim.measured_c();
     const control::AutotuneOutput out = at.step(static_cast<int32_t>(std::lround(m * 256)));
-    if (at.phase() == Autotune::Phase::kApproach && r.approach_s == 0) { r.approach_s = sim.time_s() - t0; if (std::getenv("DETP")) std::printf("DET %s det %d L %d max %d off %d lag %d\n", p.name.c_str(), at.det_bin()*8, at.horizon_ticks(), at.max_tick(), at.off_tick(), at.lag_probe()); }
+    if (at.phase() == Autotune::Phase::kApproach && r.approach_s == 0) {
+      r.approach_s = sim.time_s() - t0;
+      r.lag_probe = at.lag_probe();
+    }
     if (at.phase() == Autotune::Phase::kRelay && r.relay_s == 0) r.relay_s = sim.time_s() - t0;
     if (out.fan_duty > 0 && r.fan_s == 0) r.fan_s = sim.time_s() - t0;
     if (out.event == control::AutotuneEvent::kCycle || out.event == control::AutotuneEvent::kUltimate) ++r.cycles;
@@ -330,6 +334,14 @@ TEST(AutotuneApproach, FopdtDeadTimePlantsLandWithinHeatupPlusFourAndAHalfL) {
 // (σ 0.1 °C, these realisations) 650–1,040 and 250–300 s. On D + (L̂ − D)/2.5 (docs/autotune.md)
 // 417–444 and 164–186 s.
 TEST(AutotuneApproach, ALagTypeProbeApproachesOnTheLagNotOnTheCutToPeakTime) {
+  // Which probes count as a lag on the bank (σ 0.1 °C): only these two. A dead time delays the
+  // response as much as the peak (the FOPDT plants, seed002/004); the two-node plants' and
+  // seed003's probes take the tangent (continuous) path; seed000's are retried (nothing within a
+  // minute of the first pulse).
+  for (const Plant& p : plants()) {
+    const TuneRun r = run(p, 5, true, 0.1, false, 1.0, -1, false, 1800);
+    EXPECT_EQ(r.lag_probe, p.name == "heavy-slow" || p.name == "two-node-delay5") << p.name;
+  }
   struct Case { const char* plant; double approach_s; };
   for (const Case c : {Case{"heavy-slow", 500}, Case{"two-node-delay5", 220}}) {
     const std::vector<Plant> ps = plants();

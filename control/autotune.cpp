@@ -22,7 +22,7 @@
 //   division, a mul_q16 and a 32×16 multiply); relay ≤ 1,720 (bias nudge), a cycle's end
 //   ≤ 1,640; compute ≤ 1,865 (the T division with its normalising shifts). A lag probe's
 //   approach adds a mul_q16 to its stages 1 and 6 (2026-12-05; whole control step in simavr
-//   ≤ 2,797 on heavy-slow, 2,790 on hotend40w-delay5)
+//   ≤ 2,767 on heavy-slow, 2,760 on hotend40w-delay5)
 // That is over the ~1,500 aimed at by up to ~370 cycles: the fixed part of every step (~460) is
 // the next thing to trim (see the report).
 #include "control/autotune.h"
@@ -686,13 +686,13 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
     // law crawled the last 10 °C. The relay, the time limits and compute keep L̂. Only on a quiet
     // sensor: at σ 0.5 °C a loss learnt at full power a third high carried the faster P law to
     // S + 6..7.6 °C (heavy-slow, two-node-delay5), 1–2 °C before.
-    const uint8_t det_bins = static_cast<uint8_t>(near(probe_).det_bin < horizon_bins_ ? near(probe_).det_bin + 1 : horizon_bins_);
+    const uint16_t det_bin = near(probe_).det_bin;
     ap.lag_probe = !probe_.continuous && !hot_start_ && probe_.retries == 0 && probe_.max_tick == 0 &&
-                   noise_q8_ <= kQuietNoiseQ8 && 2 * horizon_ticks_ > 3 * kTicksPerBin * static_cast<int32_t>(probe_.det_bin);
-    ap.det_bins = det_bins;
+                   noise_q8_ <= kQuietNoiseQ8 && 2 * horizon_ticks_ > 3 * kTicksPerBin * static_cast<int32_t>(det_bin);
+    ap.det_bins = static_cast<uint8_t>(det_bin < horizon_bins_ ? det_bin + 1 : horizon_bins_);
     // ÷5 (rounded up) as ·13108/2^16, exact for numerators < 2^14 (here ≤ 354; a division costs ~200
     // cycles).
-    ap.bins = ap.lag_probe ? static_cast<uint8_t>(((2u * horizon_bins_ + 3u * det_bins + 4u) * uint32_t{13108}) >> 16) : horizon_bins_;
+    ap.bins = ap.lag_probe ? static_cast<uint8_t>(((2u * horizon_bins_ + 3u * ap.det_bins + 4u) * uint32_t{13108}) >> 16) : horizon_bins_;
     extend_timeout();
     set_approach_gain();
     return 21;
@@ -768,9 +768,13 @@ void Autotune::extend_timeout() {
 
 // Approach: closed-loop time constant = 1.25 × its response time (≥ 3 bins); P gain 1/(S·τ). One
 // division: S ≤ 2^15 (clamped where it is learnt) × τ ≤ 87 < 2^22.
-void Autotune::set_approach_gain() {
+uint8_t Autotune::approach_tau() const {
   const uint8_t hb = appr_.bins;
-  const uint8_t tau = static_cast<uint8_t>(hb < 3 ? 3 : hb + hb / 4);
+  return static_cast<uint8_t>(hb < 3 ? 3 : hb + hb / 4);
+}
+
+void Autotune::set_approach_gain() {
+  const uint8_t tau = approach_tau();
   const uint32_t g = (uint32_t{1} << 24) / (static_cast<uint32_t>(slope_q8_) * tau);
   appr_.gain_q8 = static_cast<int32_t>(g > 40000 ? 40000 : g);
 }
@@ -952,8 +956,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         // A trusted cut probe's first approach: deadbeat on the model (gain 1/S: full power until
         // the undelayed prediction is within a bin's heat of the target, that bin's exact duty),
         // then the slow law from the first unsaturated bin on.
-        const uint8_t hb = ap.bins;
-        const uint32_t fast = static_cast<uint32_t>(gain) * (hb < 3 ? 3u : hb + hb / 4u);
+        const uint32_t fast = static_cast<uint32_t>(gain) * approach_tau();
         gain = static_cast<int32_t>(fast > 40000 ? 40000 : fast);
         // The duty set now starts ¾ of a bin late (this is the bin's 6th step): the heat the
         // present duty still adds above ū's until then counts as in flight too.

@@ -183,6 +183,7 @@ class Autotune {
   void model_anchor();
   void start_probe();
   int32_t steady_from_model() const;
+  uint8_t approach_tau() const;  // the approach's closed-loop time constant in bins
   void set_approach_gain();
   void extend_timeout();
   int32_t trend_q8(uint8_t sigma_q4) const;

@@ -338,13 +338,13 @@ TEST(AutotuneApproach, ALagTypeProbeApproachesOnTheLagNotOnTheCutToPeakTime) {
   // response as much as the peak (the FOPDT plants, seed002/004); the two-node plants' and
   // seed003's probes take the tangent (continuous) path; seed000's are retried (nothing within a
   // minute of the first pulse).
-  for (const Plant& p : plants()) {
+  const std::vector<Plant> ps = plants();
+  for (const Plant& p : ps) {
     const TuneRun r = run(p, 5, true, 0.1, false, 1.0, -1, false, 1800);
     EXPECT_EQ(r.lag_probe, p.name == "heavy-slow" || p.name == "two-node-delay5") << p.name;
   }
   struct Case { const char* plant; double approach_s; };
   for (const Case c : {Case{"heavy-slow", 500}, Case{"two-node-delay5", 220}}) {
-    const std::vector<Plant> ps = plants();
     const auto p = std::find_if(ps.begin(), ps.end(), [&](const Plant& q) { return q.name == c.plant; });
     ASSERT_NE(p, ps.end());
     for (const unsigned long long seed : {12345ULL, 1ULL, 2ULL, 3ULL, 4ULL, 5ULL, 6ULL, 7ULL}) {

@@ -274,7 +274,7 @@ __attribute__((noinline)) int32_t Autotune::model_ago(uint8_t bins) const { retu
 int32_t Autotune::model_delayed() const {
   // (The slow law, tuned on the whole-bin horizon, keeps it: its plants' peaks are flat or
   // their models unsure, and the bin is their timing's resolution anyway.)
-  if (appr_.landed == 2) return model_ago(horizon_bins_);
+  if (appr_.landed >= 2) return model_ago(horizon_bins_);
   const uint32_t j_q8 = static_cast<uint32_t>(horizon_ticks_ + kAlignTicks) << 5;  // ÷ 8 bins, × 256
   uint8_t whole = static_cast<uint8_t>(j_q8 >> 8);
   if (whole > kRingBins - 2) whole = kRingBins - 2;
@@ -658,6 +658,27 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
   return 3;
 }
 
+// The model's history restarts from the reading now, x(now − L̂) = rise, with the last `on` of
+// the L̂ bins at full power and the present loss 1/T: model_anchor writes entry j as it is first
+// read. Returns (1 − 1/T)^hb (Q16, 65536 without loss), the power by squaring (≤ 12 multiplies;
+// every product ≤ 2^16 · 65535 < 2^32).
+uint32_t Autotune::seed_history(uint8_t on) {
+  Approach& ap = near(appr_);
+  uint32_t p = 65536;
+  uint16_t base = static_cast<uint16_t>(65536u - inv_t_q16_);  // inv_t ≥ 1 here, or unused
+  for (uint8_t n = inv_t_q16_ != 0 ? horizon_bins_ : 0; n != 0; n >>= 1) {
+    if (n & 1) p = (p * base + 0x8000u) >> 16;
+    base = static_cast<uint16_t>((uint32_t{base} * base + 0x8000u) >> 16);
+  }
+  offset_q8_ = 0;
+  ap.fill_x_q8 = y_bin_q8_ - ambient_q8_;
+  ap.fill_j = horizon_bins_;
+  ap.fill_on = on;
+  ap.fill_a_q16 = inv_t_q16_;
+  ap.fill_head = ring_head_;
+  return p;
+}
+
 // Probe → approach hand-over, from S (slope_q8_), L̂ (horizon_ticks_), 1/T (inv_t_q16_) and the
 // bins at full power just before (appr_.full_bins): 20 the gain, 21 the steady duty, 22 the model.
 uint8_t Autotune::begin_stage(uint8_t stage) {
@@ -709,19 +730,8 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   // (the cut probe, on = 0), the power by squaring (≤ 12 16×16 multiplies).
   const int32_t rise = y_bin_q8_ - ambient_q8_;
   const uint8_t on = ap.full_bins < horizon_bins_ ? ap.full_bins : horizon_bins_;
-  uint32_t p = 65536;  // (1 − a)^hb, Q16; every product ≤ 2^16 · 65535 < 2^32
-  uint16_t base = static_cast<uint16_t>(65536u - inv_t_q16_);  // inv_t ≥ 1 here, or unused
-  for (uint8_t n = inv_t_q16_ != 0 ? horizon_bins_ : 0; n != 0; n >>= 1) {
-    if (n & 1) p = (p * base + 0x8000u) >> 16;
-    base = static_cast<uint16_t>((uint32_t{base} * base + 0x8000u) >> 16);
-  }
+  const uint32_t p = seed_history(on);
   model_q8_ = (p >= 65536 ? rise : fixed::mul_q16(rise, static_cast<uint16_t>(p))) + slope_q8_ * on;
-  offset_q8_ = 0;
-  ap.fill_x_q8 = rise;
-  ap.fill_j = horizon_bins_;
-  ap.fill_on = on;
-  ap.fill_a_q16 = inv_t_q16_;
-  ap.fill_head = ring_head_;
   ap.ref_rise_q8 = rise;
   ap.ref_slope_q8 = 0;
   ap.loss_estimates = 0;
@@ -915,8 +925,14 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
           // Each estimate has the latest slope's noise: the first is taken, later ones move it by
           // ¼ (one at σ 0.3 °C read fopdt-120-25's 1/T 24 % high, ū 20 %: the slow law held S + 9.5 °C).
           if (ap.loss_estimates != 0) inv_t = static_cast<uint32_t>(inv_t_q16_ + div2n(static_cast<int32_t>(inv_t) - inv_t_q16_, 2));
+          const bool first = ap.loss_estimates == 0;
           ap.loss_estimates = 1;
           inv_t_q16_ = static_cast<uint16_t>(inv_t);
+          // The deadbeat on a model without loss (a flat cut probe that showed none) built its
+          // history without it, and over-predicted the heat in flight by the loss over L̂ bins
+          // (fopdt-120-25: cut at 137 °C, landed 20 °C short, then a P law's 110 s creep):
+          // rebuild it with the loss just learnt (stage 9).
+          if (first && inv_t != 0 && ap.landed == 0 && probe_.max_tick == 0 && !ap.lag_probe) return 9;
         }
         // A probe cut short while the lags were still filling (a hot start has little room
         // below the target) leaves S low, so the steady duty ū = loss/S comes out high and the
@@ -933,6 +949,15 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
     case 8:
       set_approach_gain();
       return 5;
+    case 9: {
+      // At full power over the whole history (case 4 learns only after hb + 4 such bins):
+      // x(now) = rise·p + S·(1 − p)·T, p = (1 − 1/T)^hb. S < 2^15 × (1 − p) < 2^16 < 2^31; the
+      // quotient clamped as the model is (±30,000 °C·16).
+      const uint32_t p = seed_history(horizon_bins_);
+      const uint32_t held = (static_cast<uint32_t>(slope_q8_) * (65536u - p)) / inv_t_q16_;
+      model_q8_ = (p >= 65536 ? rise : fixed::mul_q16(rise, static_cast<uint16_t>(p))) + static_cast<int32_t>(held > 480000u ? 480000u : held);
+      return 5;
+    }
     case 5:
       ap.steady_q16 = steady_from_model();
       return 6;
@@ -965,7 +990,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       }
       ex = fixed::clamp(ex, -200 * kQ8, 200 * kQ8);  // again after the deadbeat's heat in flight
       const int32_t u = ap.steady_q16 + ((ex * gain) >> 8);  // |ex·gain| ≤ 51,200 · 40,000 < 2^31
-      if (u < kFull && ap.landed == 0) ap.landed = probe_.max_tick != 0 ? 1 : 2;
+      if (u < kFull && ap.landed == 0) ap.landed = probe_.max_tick != 0 ? 1 : 3;
       duty_q16_ = clamp_duty(u);
       ap.duty_avg_q16 += div2n(static_cast<int32_t>(duty_q16_) - ap.duty_avg_q16, 2);
       // Above the target with the trend carrying it past S + 2 °C: heater off, as in the relay.
@@ -1000,10 +1025,13 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       d_q16_ = clamp_step((static_cast<uint32_t>(kAmplitudeQ8) << 16) / (static_cast<uint32_t>(slope_q8_) * horizon_bins_));
       // Settled on the target at the steady duty (the last L̂ + 2 bins within ±0.5 °C): the first
       // half goes low, and the cycle from its end on is measured, for once that half has lasted
-      // L̂ the in-flight heat is the relay's own, as in any later cycle. Otherwise a settling
-      // cycle first (an approach that left by its crossings or its stall).
+      // L̂ the in-flight heat is the relay's own, as in any later cycle. Likewise after the
+      // deadbeat on a flat FOPDT probe's model, once its history holds the loss learnt at full
+      // power (stage 9): fopdt-120-25 −100 s, its D as close. Not after a lag probe's (heavy-slow's
+      // D came out 17.8–22.8 s against 25.7). Otherwise a settling cycle first (an approach that
+      // left by its crossings or its stall).
       const bool settled = ap.settled_bins >= ap.bins + 2;
-      settling_cycles_ = settled && !untrusted_ && (ap.landed == 1 || probe_.continuous) ? 0 : kSettlingCycles;
+      settling_cycles_ = settled && !untrusted_ && (ap.landed == 1 || (ap.landed == 3 && !ap.lag_probe) || probe_.continuous) ? 0 : kSettlingCycles;
       relay_hi_ = settling_cycles_ != 0 && y_bin_q8_ < target_q8_;
       stall_ref_q8_ = y_bin_q8_;  // the first half's stall test measures progress from here
       half_ticks_ = 0;

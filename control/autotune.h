@@ -155,7 +155,7 @@ class Autotune {
   uint8_t overruns() const { return overruns_; }  // bin logic not finished within its bin (0)
   uint16_t noise_q8() const { return noise_q8_; }  // reading noise σ measured so far (°C × 256)
   bool untrusted() const { return untrusted_; }     // the probe's model is not trusted (trend guard)
-  uint8_t approach_law() const { return appr_.landed; }  // 0 deadbeat, 1 landed, 2 the slow law
+  uint8_t approach_law() const { return appr_.landed; }  // 0 deadbeat, 1 landed, 2 (3) the slow law (after a flat probe's deadbeat)
   bool lag_probe() const { return appr_.lag_probe; }
 
  private:
@@ -185,6 +185,7 @@ class Autotune {
   int32_t steady_from_model() const;
   uint8_t approach_tau() const;  // the approach's closed-loop time constant in bins
   void set_approach_gain();
+  uint32_t seed_history(uint8_t on);
   void extend_timeout();
   int32_t trend_q8(uint8_t sigma_q4) const;
   void measure_noise(int32_t y);
@@ -321,7 +322,8 @@ class Autotune {
     int32_t steady_q16;      // ū: steady duty estimate (integral part)
     uint8_t settled_bins;
     uint8_t near_bins;       // bins within 2 °C of the target (a stalled approach)
-    uint8_t landed;          // 0 deadbeat (trusted cut probe's first approach), 1 landed, 2 the slow law
+    uint8_t landed;          // 0 deadbeat (trusted cut probe's first approach), 1 landed, 2 the slow law,
+                             // 3 the slow law after the deadbeat on a flat probe's model without loss
     int32_t ref_rise_q8;
     int32_t ref_slope_q8;     // loss learning: rise where the slope S was measured
     uint8_t loss_estimates;   // loss learning at full power: estimates so far (averaged)

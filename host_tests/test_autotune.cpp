@@ -358,6 +358,38 @@ TEST(AutotuneApproach, ALagTypeProbeApproachesOnTheLagNotOnTheCutToPeakTime) {
   }
 }
 
+// A cold cut probe too flat to show the loss (fopdt-120-25, fopdt-300-10) heats at full power on
+// a model without loss until the loss is learnt at full power, over 40 °C. The history built
+// without it over-predicted the heat in flight: fopdt-120-25 cut at 137 °C, landed 20 °C short
+// and crept for 110 s, then ran a settling relay cycle. Now the history restarts with the loss
+// learnt, and an approach that settled needs no settling cycle, as after a sharp peak. Before,
+// over these realisations: fopdt-120-25 614–688 s with 3 relay cycles, fopdt-300-10 464 s at
+// σ 0 (465–507 at σ 0.1); now 452–524 s with 2, and 392 s (417–492).
+TEST(AutotuneApproach, AFlatPeakFopdtLandsOnTheLossLearntAtFullPower) {
+  const std::vector<Plant> ps = plants();
+  struct Case { const char* plant; double tune_s[2]; };  // at σ 0 and 0.1
+  for (const Case c : {Case{"fopdt-120-25", {540, 540}}, Case{"fopdt-300-10", {400, 510}}}) {
+    const auto p = std::find_if(ps.begin(), ps.end(), [&](const Plant& q) { return q.name == c.plant; });
+    ASSERT_NE(p, ps.end());
+    for (const int n : {0, 1}) {
+      const double noise = 0.1 * n;
+      for (const unsigned long long seed : {12345ULL, 1ULL, 2ULL, 3ULL, 4ULL, 5ULL}) {
+        const TuneRun r = run(*p, 5, true, noise, false, 1.0, -1, false, 1800, seed);
+        std::printf("%-14s σ %.1f seed %5llu: approach %.1f s, relay %.1f s, tune %.1f s, cycles %d, max S + %.2f, D %.2f\n", c.plant,
+                    noise, seed, r.relay_s - r.approach_s, r.fan_s - r.relay_s, r.duration_s, r.cycles, r.max_c - p->target_c,
+                    r.result.model.dead_time_q8 / 256.0);
+        EXPECT_EQ(r.state, AutotuneState::kFinished) << c.plant << " seed " << seed;
+        EXPECT_LE(r.max_c, p->target_c + 2.0) << c.plant << " seed " << seed;
+        EXPECT_LE(r.duration_s, c.tune_s[n]) << c.plant << " σ " << noise << " seed " << seed;
+        EXPECT_NEAR(r.result.model.dead_time_q8 / 256.0, p->l, 0.1 * p->l) << c.plant << " seed " << seed;
+        if (p->name == "fopdt-120-25") {
+          EXPECT_EQ(r.cycles, 2) << "no settling cycle, seed " << seed;
+        }
+      }
+    }
+  }
+}
+
 // M303's default effort (C5, F1): the tune's duration per plant against issue 7's target (≤ 4 min
 // on hotend40w-class plants, ≤ the full-power heat-up + 3 min elsewhere, 2 × that on seed000).
 // Where it is met, the target is asserted; elsewhere a ceiling ~10 % above the figure measured
@@ -370,11 +402,12 @@ TEST(AutotuneApproach, ALagTypeProbeApproachesOnTheLagNotOnTheCutToPeakTime) {
 // fopdt-120-25 657, two-node-delay5 547; with the untrusted approach's heater off above the
 // target: seed000-4 2344 → 2917 on this noise realisation, −1.4..+0.1 % mean over 20 others at
 // σ 0.1–0.3; with a lag-type probe's approach on the lag: heavy-slow 1586 → 981, two-node-delay5
-// 547 → 444), so a slower tune fails here.
+// 547 → 444; with the loss learnt at full power rebuilding a flat probe's history and no settling
+// cycle after it: fopdt-120-25 657 → 462, fopdt-300-10 507 → 445), so a slower tune fails here.
 TEST(AutotuneDuration, DefaultEffortC5PerPlant) {
   const std::map<std::string, double> ceiling = {
-      {"seed002", 370},      {"seed004", 370},       {"seed003", 295},       {"fopdt-300-10", 570},
-      {"fopdt-120-25", 725}, {"heavy-slow", 1050},  {"two-node-delay5", 490}, {"seed000-4", 3000},
+      {"seed002", 370},      {"seed004", 370},       {"seed003", 295},       {"fopdt-300-10", 490},
+      {"fopdt-120-25", 510}, {"heavy-slow", 1050},  {"two-node-delay5", 490}, {"seed000-4", 3000},
       {"seed000-5", 2795}};
   std::printf("%-16s %7s %7s %6s %8s %7s %7s %7s\n", "plant", "tune s", "target", "max-S", "approach", "relay", "fan", "heatup");
   for (const Plant& p : plants()) {

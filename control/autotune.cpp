@@ -662,11 +662,11 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
 // the L̂ bins at full power and the present loss 1/T: model_anchor writes entry j as it is first
 // read. Returns (1 − 1/T)^hb (Q16, 65536 without loss), the power by squaring (≤ 12 multiplies;
 // every product ≤ 2^16 · 65535 < 2^32).
-uint32_t Autotune::seed_history(uint8_t on) {
+uint32_t Autotune::seed_history(uint8_t on, uint16_t a_q16) {
   Approach& ap = near(appr_);
   uint32_t p = 65536;
-  uint16_t base = static_cast<uint16_t>(65536u - inv_t_q16_);  // inv_t ≥ 1 here, or unused
-  for (uint8_t n = inv_t_q16_ != 0 ? horizon_bins_ : 0; n != 0; n >>= 1) {
+  uint16_t base = static_cast<uint16_t>(65536u - a_q16);  // a ≥ 1 here, or unused
+  for (uint8_t n = a_q16 != 0 ? horizon_bins_ : 0; n != 0; n >>= 1) {
     if (n & 1) p = (p * base + 0x8000u) >> 16;
     base = static_cast<uint16_t>((uint32_t{base} * base + 0x8000u) >> 16);
   }
@@ -674,7 +674,7 @@ uint32_t Autotune::seed_history(uint8_t on) {
   ap.fill_x_q8 = y_bin_q8_ - ambient_q8_;
   ap.fill_j = horizon_bins_;
   ap.fill_on = on;
-  ap.fill_a_q16 = inv_t_q16_;
+  ap.fill_a_q16 = a_q16;
   ap.fill_head = ring_head_;
   return p;
 }
@@ -730,7 +730,7 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   // (the cut probe, on = 0), the power by squaring (≤ 12 16×16 multiplies).
   const int32_t rise = y_bin_q8_ - ambient_q8_;
   const uint8_t on = ap.full_bins < horizon_bins_ ? ap.full_bins : horizon_bins_;
-  const uint32_t p = seed_history(on);
+  const uint32_t p = seed_history(on, inv_t_q16_);
   model_q8_ = (p >= 65536 ? rise : fixed::mul_q16(rise, static_cast<uint16_t>(p))) + slope_q8_ * on;
   ap.ref_rise_q8 = rise;
   ap.ref_slope_q8 = 0;
@@ -953,7 +953,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // At full power over the whole history (case 4 learns only after hb + 4 such bins):
       // x(now) = rise·p + S·(1 − p)·T, p = (1 − 1/T)^hb. S < 2^15 × (1 − p) < 2^16 < 2^31; the
       // quotient clamped as the model is (±30,000 °C·16).
-      const uint32_t p = seed_history(horizon_bins_);
+      const uint32_t p = seed_history(horizon_bins_, inv_t_q16_);
       const uint32_t held = (static_cast<uint32_t>(slope_q8_) * (65536u - p)) / inv_t_q16_;
       model_q8_ = (p >= 65536 ? rise : fixed::mul_q16(rise, static_cast<uint16_t>(p))) + static_cast<int32_t>(held > 480000u ? 480000u : held);
       return 5;
@@ -1013,6 +1013,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         if (ap.side != 0) ++ap.crossings;
         ap.side = side;
       }
+      if (y_bin_q8_ > target_q8_ + kQ8) ap.overshot = true;
       const uint8_t hb = ap.bins;
       return ap.settled_bins >= hb + 2 || ap.near_bins >= 3 * (hb + 2) || ap.crossings >= 2 ? 7 : 0;
     }
@@ -1028,10 +1029,11 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // L̂ the in-flight heat is the relay's own, as in any later cycle. Likewise after the
       // deadbeat on a flat FOPDT probe's model, once its history holds the loss learnt at full
       // power (stage 9): fopdt-120-25 −100 s, its D as close. Not after a lag probe's (heavy-slow's
-      // D came out 17.8–22.8 s against 25.7). Otherwise a settling cycle first (an approach that
-      // left by its crossings or its stall).
+      // D came out 17.8–22.8 s against 25.7), nor after one that went 1 °C past the target (an FOPDT
+      // of C 300 s, D 35 s settled from S + 2.4 °C, still drifting: D +35 %). Otherwise a settling
+      // cycle first (an approach that left by its crossings or its stall).
       const bool settled = ap.settled_bins >= ap.bins + 2;
-      settling_cycles_ = settled && !untrusted_ && (ap.landed == 1 || (ap.landed == 3 && !ap.lag_probe) || probe_.continuous) ? 0 : kSettlingCycles;
+      settling_cycles_ = settled && !untrusted_ && (ap.landed == 1 || (ap.landed == 3 && !ap.lag_probe && !ap.overshot) || probe_.continuous) ? 0 : kSettlingCycles;
       relay_hi_ = settling_cycles_ != 0 && y_bin_q8_ < target_q8_;
       stall_ref_q8_ = y_bin_q8_;  // the first half's stall test measures progress from here
       half_ticks_ = 0;

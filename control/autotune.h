@@ -185,7 +185,7 @@ class Autotune {
   int32_t steady_from_model() const;
   uint8_t approach_tau() const;  // the approach's closed-loop time constant in bins
   void set_approach_gain();
-  uint32_t seed_history(uint8_t on);
+  uint32_t seed_history(uint8_t on, uint16_t a_q16);
   void extend_timeout();
   int32_t trend_q8(uint8_t sigma_q4) const;
   void measure_noise(int32_t y);
@@ -344,6 +344,7 @@ class Autotune {
     uint8_t bins;            // the approach's response time in bins: L̂, or a lag probe's (2L̂ + 3D)/5
     uint8_t det_bins;        // D: the probe's pulse-to-response time in bins
     int32_t det_flight_q8;   // 3/5 of the model's rise over the last D bins (stage 1 for stage 6)
+    bool overshot;           // the reading went 1 °C past the target (no relay without a settling cycle)
   };
   Approach appr_ = {};
   int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <map>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -388,6 +389,37 @@ TEST(AutotuneApproach, AFlatPeakFopdtLandsOnTheLossLearntAtFullPower) {
       }
     }
   }
+}
+
+// FOPDT hotends beyond the bank: K 250–900 °C, C 60–400 s, D 3–35 s, σ 0 and 0.1 °C (cut
+// probes, sharp and flat, with and without a loss shown). Every tune finishes within S + 5 °C
+// with K and C within 5 % and D within 12 %. The first form of the flat probe's relay without a
+// settling cycle started it on an approach still drifting down from S + 2.4 °C, and read
+// K 450 C 300 D 35 as D 51. The summed tune time guards the flat probes' gain: 99,846 s before,
+// 89,621 s since.
+TEST(AutotuneApproach, FopdtGridFinishesAccurateWithinTargetPlus5) {
+  double total_s = 0;
+  for (const double k : {250.0, 450.0, 900.0}) {
+    for (const double t : {60.0, 120.0, 200.0, 300.0, 400.0}) {
+      for (const double l : {3.0, 6.0, 10.0, 15.0, 25.0, 35.0}) {
+        for (const double noise : {0.0, 0.1}) {
+          const Plant p = fopdt_plant("grid", k, t, l);
+          const TuneRun r = run(p, 5, true, noise, false, 1.0, -1, false, 3600, 7);
+          const control::HotendModel& m = r.result.model;
+          std::ostringstream where;
+          where << "K " << k << " C " << t << " D " << l << " σ " << noise;
+          ASSERT_EQ(r.state, AutotuneState::kFinished) << where.str();
+          EXPECT_LE(r.max_c, p.target_c + 5.0) << where.str();
+          EXPECT_NEAR(m.rise_q8 / 256.0, k, 0.05 * k) << where.str();
+          EXPECT_NEAR(m.time_constant_q8 / 256.0, t, 0.05 * t) << where.str();
+          EXPECT_NEAR(m.dead_time_q8 / 256.0, l, 0.12 * l) << where.str();
+          total_s += r.duration_s;
+        }
+      }
+    }
+  }
+  std::printf("180 FOPDT tunes: %.0f s in all\n", total_s);
+  EXPECT_LE(total_s, 92000.0);
 }
 
 // M303's default effort (C5, F1): the tune's duration per plant against issue 7's target (≤ 4 min
@@ -835,3 +867,4 @@ TEST(Autotune, FanThatDoesNotCoolEndsTheStepBeforeTargetPlus5) {
     }
   }
 }
+

@@ -323,7 +323,7 @@ class Autotune {
     uint8_t settled_bins;
     uint8_t near_bins;       // bins within 2 °C of the target (a stalled approach)
     uint8_t landed;          // 0 deadbeat (trusted cut probe's first approach), 1 landed, 2 the slow law,
-                             // 3 the slow law after the deadbeat on a flat probe's model without loss
+                             // 3 the slow law after the deadbeat on a flat probe's model (stage 9 rebuilds it)
     int32_t ref_rise_q8;
     int32_t ref_slope_q8;     // loss learning: rise where the slope S was measured
     uint8_t loss_estimates;   // loss learning at full power: estimates so far (averaged)

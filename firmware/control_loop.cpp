@@ -86,11 +86,12 @@ void ControlLoop::report(gcode::Output& out) {
 }
 
 void ControlLoop::sync_protection(const Settings& s) {
-  const uint8_t threshold_c = s.model_tuned ? s.protect_tuned_c : s.protect_default_c;
+  const bool tight = s.model_tuned == kModelMeasured;
+  const uint8_t threshold_c = tight ? s.protect_tuned_c : s.protect_default_c;
   watch_.set_window_periods(static_cast<uint16_t>(uint32_t{s.watch_period_s} * 1000u / kControlPeriodMs));
   const control::HotendModel& m = s.model;
   if (check_tuned_ == s.model_tuned && check_threshold_c_ == threshold_c && control::same_model(m, check_model_)) return;
-  check_.configure(m, s.model_tuned != 0, int32_t{threshold_c} << 8, kControlPeriodMs);
+  check_.configure(m, tight, int32_t{threshold_c} << 8, kControlPeriodMs);
   check_model_ = m;
   check_tuned_ = s.model_tuned;
   check_threshold_c_ = threshold_c;

@@ -145,14 +145,15 @@ void ControllerBank::prepare_feedforward(int32_t target_q8) {
   // F0 still gets the part fan's share (PID and fuzzy-PID): the fan is a measured load with a
   // known loss (M307 F), and behind a 20 s dead time feedback alone sees it 20 s late (SIMC PI:
   // 28–45 °C dips on the seeds). Marlin's PID_FAN_SCALING adds a fan term for the same reason.
-  // The Marlin-style baseline keeps Marlin's default (none).
+  // The Marlin-style baseline keeps Marlin's default (none). Any measured model counts, also one
+  // M303 left on the loose check (seed003's lag: a 29 °C dip with no recovery without it).
   uint16_t no_fan_q16 = 0;
   uint16_t full_fan_q16 = 0;
   uint16_t base_q16 = 0;
   if (settings_.feedforward != 0) {
     no_fan_q16 = feedforward_.duty_q16(target_q8, 0);
     full_fan_q16 = feedforward_.duty_q16(target_q8, 255);
-  } else if (settings_.model_tuned != 0 && active_id() != ControllerId::kMarlinPid) {
+  } else if (settings_.model_tuned != kModelDefault && active_id() != ControllerId::kMarlinPid) {
     base_q16 = feedforward_.duty_q16(target_q8, 0);
     full_fan_q16 = static_cast<uint16_t>(feedforward_.duty_q16(target_q8, 255) - base_q16);
   }
@@ -198,7 +199,12 @@ __attribute__((noinline)) uint16_t ControllerBank::step_pid_family(const control
   if (in.target_q8 != ff_target_q8_) prepare_feedforward(in.target_q8);
   if (in.fan_duty != ff_fan_) follow_fan(in.fan_duty);
   if (settings_.feedforward != 0 && id == ControllerId::kPid) return step_model_following(in);
-  if (id == ControllerId::kFuzzyPid && (settings_.feedforward != 0 || settings_.model_tuned != 0)) return step_fuzzy(in);
+  // Fuzzy-PID's model heat-up with F0 wants a model that bounds the hotend tightly: on the loose
+  // one of an unsure tune (seed000-4, C read 1.7 × long) it overshot by 35 °C; the fan share
+  // above it takes from any measured model.
+  if (id == ControllerId::kFuzzyPid && (settings_.feedforward != 0 || settings_.model_tuned == kModelMeasured)) {
+    return step_fuzzy(in);
+  }
   const bool update = !ff_applied_;
   ff_applied_ = true;
   switch (id) {

@@ -98,7 +98,9 @@ bool edit_settings(ControllerBank& bank, const gcode::Command& cmd, gcode::Outpu
     given = given || cmd.has(param.letter);
   }
   if (!given) return false;
-  if (model_measured) next.model_tuned = 1;  // the host vouches for it: the model check gets tight (M570 T)
+  if (model_measured) next.model_tuned = kModelMeasured;  // the host vouches for it: the model check gets tight (M570 T)
+  // M570 S0 widens a measured model's check; the model stays measured (its fan term with F0).
+  if (next.model_tuned == kModelDefault && bank.settings().model_tuned != kModelDefault) next.model_tuned = kModelMeasuredLoose;
   out.refusal_line(bank.apply(next, now));
   return true;
 }
@@ -210,7 +212,7 @@ void ControllerCommands::write_protection(gcode::Output& out) const {
   out.write_int(s.protect_default_c);
   out.print(GCODE_TEXT(" P"));
   out.write_int(s.watch_period_s);
-  out.print(s.model_tuned ? GCODE_TEXT(" S1 ; model check: T (measured model)\n")
+  out.print(s.model_tuned == kModelMeasured ? GCODE_TEXT(" S1 ; model check: T (measured model)\n")
                           : GCODE_TEXT(" S0 ; model check: U (default or unsure model)\n"));
 }
 

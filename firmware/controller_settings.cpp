@@ -29,7 +29,7 @@ constexpr Settings make_default_settings() {
   s.fuzzy_ec_factor_q12 = control::kSeedEcFactorQ12;
   // Protection (issue 8, docs/protection.md): thresholds that passed every plant of the
   // simulator's bank without a false trip, with margin.
-  s.model_tuned = 0;
+  s.model_tuned = kModelDefault;
   s.protect_tuned_c = 2;
   s.protect_default_c = 15;
   s.watch_period_s = 120;
@@ -56,7 +56,7 @@ bool settings_fields_in_range(const Settings& s) {
 }
 
 bool protection_valid(const Settings& s) {
-  return s.model_tuned <= 1 && s.protect_tuned_c >= kProtectMinC && s.protect_tuned_c <= kProtectMaxC &&
+  return s.model_tuned <= kModelMeasuredLoose && s.protect_tuned_c >= kProtectMinC && s.protect_tuned_c <= kProtectMaxC &&
          s.protect_default_c >= kProtectMinC && s.protect_default_c <= kProtectMaxC &&
          s.watch_period_s >= kWatchMinPeriodS && s.watch_period_s <= kWatchMaxPeriodS;
 }

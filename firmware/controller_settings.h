@@ -22,6 +22,12 @@ static_assert(kDefaultController != static_cast<uint8_t>(ControllerId::kStateFee
 
 constexpr uint16_t kControlPeriodMs = 128;  // brief: 128 ticks of 1 ms
 
+// Where Settings::model came from (Settings::model_tuned). A measured model feeds the PID
+// family's part-fan term and fuzzy-PID's model heat-up also with M310 F0; only a tight one arms
+// the model check's tight threshold (M570 T). M303 leaves a hot start's, a lag-dominated
+// hotend's and an unsure tune's model loose: good enough for a load share, not for a fault.
+enum ModelSource : uint8_t { kModelDefault = 0, kModelMeasured = 1, kModelMeasuredLoose = 2 };
+
 struct Settings {
   control::PidGains pid;          // M301, Marlin units Q16 (S0, S2 around them, S3)
   control::HotendModel model;     // M307 (feedforward of S0, S2, S3)
@@ -30,7 +36,7 @@ struct Settings {
   uint8_t fuzzy_spread_pct;       // M312 S: fuzzy schedule spans M301 × (1 ∓ spread)
   uint16_t fuzzy_e_factor_q12;    // M312 E: universe units per °C, Q12
   uint16_t fuzzy_ec_factor_q12;   // M312 C: universe units per °C/s, Q12
-  uint8_t model_tuned;            // 1: `model` came from M303 or M307 (kept by M500), 0: the default
+  uint8_t model_tuned;            // a ModelSource: default, measured, or measured but checked loosely
   uint8_t protect_tuned_c;        // M570 T: model check's evidence threshold, °C, tuned model
   uint8_t protect_default_c;      // M570 U: the same with the default model
   uint16_t watch_period_s;        // M570 P: the model-free heating watch's window, s

@@ -120,7 +120,7 @@ inline Applied applied(const control::AutotuneResult& r, control::TunedDesign d,
   a.sf_ok = control::design_tuned_state_feedback(&d, firmware::kControlPeriodMs, &a.sf);
   a.settings = firmware::default_settings();
   a.settings.model = d.model;
-  a.settings.model_tuned = control::tune_bounds_tightly(r) ? 1 : 0;
+  a.settings.model_tuned = control::tune_bounds_tightly(r) ? firmware::kModelMeasured : firmware::kModelMeasuredLoose;
   a.settings.pid = d.pid;
   a.settings.controller =
       static_cast<uint8_t>(use_sf && a.sf_ok ? firmware::ControllerId::kStateFeedback : firmware::ControllerId::kPid);

@@ -240,8 +240,15 @@ TEST(ControllerCommands, M570SetsTheProtectionAndRefusesOutOfRange) {
   EXPECT_EQ(rig.send("M570 S0\n"), "ok\n");  // back to the wide check, the model kept
   EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S0 ; model check: U (default or unsure model)\nok\n");
   EXPECT_EQ(rig.machine.bank.settings().model.rise_q8, 500 * 256);
+  // ...and still measured: the PID family's fan share with F0 keeps coming from it.
+  EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelMeasuredLoose);
+  EXPECT_EQ(rig.send("M570 S1\n"), "ok\n");
+  EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelMeasured);
   rig.send("M502\n");
   EXPECT_EQ(rig.send("M570\n"), "echo:M570 T2 U15 P120 S0 ; model check: U (default or unsure model)\nok\n");
+  EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelDefault);
+  EXPECT_EQ(rig.send("M570 S0\n"), "ok\n");  // the default model stays the default
+  EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelDefault);
 }
 
 // M503 prints M570 after M307: replaying it keeps a model that M303 left on the wide check
@@ -249,11 +256,11 @@ TEST(ControllerCommands, M570SetsTheProtectionAndRefusesOutOfRange) {
 TEST(ControllerCommands, ReplayedM503KeepsAnUnsureModelOnTheWideCheck) {
   Rig rig;
   rig.send("M307 A500 C200 D6 F30\nM570 S0\n");
-  ASSERT_EQ(rig.machine.bank.settings().model_tuned, 0);
+  ASSERT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelMeasuredLoose);
   Rig fresh;
   for (const std::string& line : settings_lines(rig)) fresh.send(line + "\n");
   EXPECT_EQ(fresh.machine.bank.settings().model.rise_q8, 500 * 256);
-  EXPECT_EQ(fresh.machine.bank.settings().model_tuned, 0);
+  EXPECT_EQ(fresh.machine.bank.settings().model_tuned, firmware::kModelMeasuredLoose);
 }
 
 TEST(ControllerCommands, StoredProtectionOutOfRangeIsRefusedWhole) {

@@ -86,7 +86,7 @@ constexpr uint16_t kMinDutyStepQ16 = 328;       // d ≥ 0.5 %
 constexpr uint16_t kMaxDutyStepQ16 = 16384;     // d ≤ 25 %
 constexpr uint16_t kFull = 65535;
 constexpr uint8_t kCycleSteps = 15;  // compute steps per stored relay cycle
-constexpr uint8_t kFanSteps = 5;     // compute steps of the gain with the fan
+constexpr uint8_t kFanSteps = 6;     // compute steps of the gain with the fan (the first: the lag fit's Σ)
 constexpr int32_t kFanFallQ8 = 8 * kQ8;  // the fan step's window may end once the reading fell this far
 constexpr int32_t kFanRiseQ8 = 2 * kQ8;  // ... and ends once the reading is this far above S
 // The fan step's held duty stays below 50 %: the firmware's model-free heating watch
@@ -498,6 +498,9 @@ void Autotune::start_probe() {
   p.slope_max_bin = 0;
   p.dev_peak_q8 = INT32_MIN;
   p.slope_rise_q8 = INT32_MIN;  // the smoothed peak until the probe takes the tangent path
+  p.area_q8 = 0;
+  p.fit_r_q8 = 0;
+  scratch_.heat[0].centre = scratch_.heat[1].centre = 0;
   probe_max_q8_ = INT32_MIN;
   duty_q16_ = kFull;
 }
@@ -509,6 +512,10 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
   if (stage == 2) {
     // Tangent dead time: L = t − rise/S at the steepest point (one division).
     horizon_ticks_ = p.max_centre_tick - p.slope_max_dev_q8 * kTicksPerBin / slope_q8_;
+    return 6;
+  }
+  if (stage == 6) {
+    lag_fit_stage();
     return 20;
   }
   const uint16_t k = bins_;  // bin k covers probe ticks (8(k − 1), 8k]
@@ -593,6 +600,8 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     }
   }
   if (heater_on_) {
+    p.area_q8 += p.dev_prev2_q8;  // ≤ 2^17 per bin over ≤ 40 s of bins: < 2^23
+    heat_sample(k, slope);
     if (!p.detected) return 0;
     // Still steepening (lags filling up): keep heating past the energy cap while, even at the
     // current slope over a generous horizon (2× the detection time + 4 s), it stays 10 °C
@@ -656,6 +665,42 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
   const int32_t quarter = (peak_tick - static_cast<int32_t>(p.off_tick)) >> 5;  // ÷ (4·kTicksPerBin)
   if (k - p.peak_bin < (quarter < 3 ? 3 : quarter) + (sharp_peak() ? 1 : 0)) return 0;
   return 3;
+}
+
+// The heat-up's samples for the lag fit: at bin centres 2, 4, 8, 16, … the last two (no division).
+// Bin k's slope is centred on bin k − 1, whose integral is Σ dev over the bins before it + half its own.
+__attribute__((noinline)) void Autotune::heat_sample(uint16_t k, int32_t slope) {
+  const uint16_t c = static_cast<uint16_t>(k - 1);
+  if (k < 3 || c > 255 || (c & (c - 1)) != 0) return;
+  const Probe& p = near(probe_);
+  scratch_.heat[0] = scratch_.heat[1];
+  scratch_.heat[1] = {p.dev_prev_q8, slope, p.area_q8 + div2n(p.dev_prev_q8, 1), static_cast<uint8_t>(c)};
+}
+
+// Two lags τ1, τ2 heated at full power from a steady baseline obey K − y = Σ·ẏ + Π·ÿ (Σ = τ1 + τ2,
+// Π = τ1·τ2), and integrated from the pulse's start, K·t − ∫y = Σ·y + Π·ẏ. The tangent's
+// (K − y)/ẏ is Σ + Π·ÿ/ẏ: too long before the inflection, where the probe hands over (seed003:
+// 48 s against 42.5), and the fan step's ẏ/S reads the fan loss as long. Two samples, a (this
+// bin's centre) and b (an earlier power-of-two one, at most 2/3 of the way), eliminate Π: with
+// r = ẏ_b/ẏ_a, Σ = (K·(r·t_a − t_b) − (r·∫_a − ∫_b)) / (r·y_a − y_b), K from the relay (compute:
+// lag_sigma). t at bin centres: the bin's readings end its ticks, its mean sits half a bin before
+// its end, with ∫ to there by the same bin means (within 0.5 % noise-free on seed003, hotend40w,
+// light-fast and hotend80w; the heat-up's time origin, the pulse's first tick, is exact here).
+// One division; 0 < r < 1 (the slope still rising), t_a < 64 bins (≤ 40 s at full power).
+__attribute__((noinline)) void Autotune::lag_fit_stage() {
+  Probe& p = near(probe_);
+  p.fit_r_q8 = 0;
+  const uint16_t ca = static_cast<uint16_t>(bins_ - 1);
+  const HeatSample& b = 3u * scratch_.heat[1].centre <= 2u * ca ? scratch_.heat[1] : scratch_.heat[0];
+  const int32_t slope_a = div2n(p.dev_q8 - p.dev_prev2_q8, 1);
+  if (ca > 63 || b.centre < 2 || b.slope_q8 <= 0 || b.slope_q8 >= slope_a) return;
+  const uint16_t r = static_cast<uint16_t>(capped_ratio_q16(static_cast<uint32_t>(b.slope_q8), 65535, static_cast<uint32_t>(slope_a)));
+  // mul_q16 takes any int32 (the areas < 2^23, the rises < 2^17, t < 2^12).
+  p.fit_p_q6 = fixed::mul_q16(int32_t{ca} * 64 - 32, r) - (int32_t{b.centre} * 64 - 32);
+  p.fit_q_q8 = fixed::mul_q16(p.area_q8 + div2n(p.dev_prev_q8, 1), r) - b.area_q8;
+  const int32_t den = fixed::mul_q16(p.dev_prev_q8, r) - b.dev_q8;
+  // A denominator under 1/8 of the rise: the two samples say too little apart (noise).
+  if (p.fit_p_q6 > 0 && 8 * den > p.dev_prev_q8) p.fit_r_q8 = den;
 }
 
 // The model's history restarts from the reading now, x(now − L̂) = rise, with the last `on` of
@@ -1204,7 +1249,7 @@ void Autotune::end_cycle(uint16_t t_lo) {
     sum_duty_[0] += cyc_sum_duty_ >> 4;
     sum_ticks_[0] += period_ticks_;
     {
-      StoredCycle& c = stored_[stored_count_ % kMaxStoredCycles];
+      StoredCycle& c = scratch_.stored[stored_count_ % kMaxStoredCycles];
       ++stored_count_;
       c.u_hi_q16 = static_cast<uint16_t>(bias_q16_ + d_q16_);
       c.u_lo_q16 = static_cast<uint16_t>(bias_q16_ - d_q16_);
@@ -1251,8 +1296,13 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
   }
   // d towards ±1.5 °C: ≤ 2^16 · 384 < 2^25. Not once the measuring began without a settling
   // cycle: the next cycle's levels must be this one's, or its start is not the periodic one
-  // the T/L formulas read (seed002, one noise realisation: T 28.0 s against 24).
-  if (settling_cycles_ != 0) {
+  // the T/L formulas read (seed002, one noise realisation: T 28.0 s against 24). Nor, on a
+  // lag-type hotend (tangent probe), once the measured cycles began: a new d starts a transient
+  // whose slow lag carries its heat across the cycle's ends (K·ū = ȳ + Σ·Δy/W + Π·Δẏ/W over a
+  // window W), and seed003's K read 2.2 % high, the fan-step's F 52 % against 42.6 (now 0.6 %,
+  // 45.4 %). On the cut probes' hotends it moved the relay's D (seed000-4: 74 → 76–90 s, its
+  // state feedback then swung 3 °C p-p), so they adapt as before.
+  if (settling_cycles_ != 0 && (cycle_index_ <= settling_cycles_ || !probe_.continuous)) {
     uint32_t d = uint32_t{d_q16_} * kAmplitudeQ8 / a;
     if (d > 2u * d_q16_) d = 2u * d_q16_;
     if (d < d_q16_ / 2u) d = d_q16_ / 2u;
@@ -1327,6 +1377,21 @@ void Autotune::end_fan_step() {
   enter(Phase::kCompute);
 }
 
+// Σ = (K·p − q)/r from the hand-over's lag fit (lag_fit_stage), bins × 64; 0 when there is none
+// or it falls outside ½–1 × the tangent's (K − rise)/S, which overstates it by Π·ÿ/ẏ ≥ 0 (so
+// beyond: noise). K·p: K < 2^19 (q8), p < 2^12: < 2^31. One division.
+__attribute__((noinline)) int32_t Autotune::lag_sigma_q6(int32_t k_q8) const {
+  const Probe& p = probe_;
+  if (!p.continuous || p.fit_r_q8 <= 0 || k_q8 <= p.slope_rise_q8 || slope_q8_ <= 0 || slope_q8_ >= 8192) return 0;
+  const int32_t num = static_cast<int32_t>((static_cast<uint32_t>(k_q8) * static_cast<uint32_t>(p.fit_p_q6)) >> 6) - p.fit_q_q8;
+  if (num <= 0 || num >= (int32_t{1} << 25)) return 0;
+  const uint32_t sigma = (static_cast<uint32_t>(num) << 6) / static_cast<uint32_t>(p.fit_r_q8);
+  if (sigma >= 65536) return 0;
+  const uint32_t tangent_q8 = static_cast<uint32_t>(k_q8 - p.slope_rise_q8);  // (K − rise)/S · S
+  const uint32_t fit_q8 = (sigma * static_cast<uint32_t>(slope_q8_)) >> 6;    // < 2^29
+  return fit_q8 <= tangent_q8 && 2 * fit_q8 >= tangent_q8 ? static_cast<int32_t>(sigma) : 0;
+}
+
 // The final arithmetic, one piece per step (at most one 32-bit division or two logarithms):
 // 0–5 K (0–2 the drift); 15 per stored cycle (the noise lift, then T, L from the relay); 4 for K with the fan (step);
 // 10 for F, the averages, the probe's C and the result.
@@ -1339,7 +1404,7 @@ bool Autotune::compute_chunk() {
   if (s < k0 || (s >= k0 + kCycleSteps * stored && s < k0 + kFanSteps + kCycleSteps * stored)) {  // fan: subs 1–5
     // Gain = mean rise / mean duty over the measured cycles [0] or the fan step [1].
     const uint8_t part = s < k0 ? 0 : 1;
-    const uint8_t sub = s < k0 ? s : static_cast<uint8_t>(s - k0 - kCycleSteps * stored + 1);
+    const uint8_t sub = s < k0 ? s : static_cast<uint8_t>(s - k0 - kCycleSteps * stored);
     const int32_t n = static_cast<int32_t>(sum_ticks_[part]) > 0 ? static_cast<int32_t>(sum_ticks_[part]) : 1;
     // A window whose mean still drifts (the slow mode of a lag-type hotend: 2 relay cycles of 5 s
     // on light-fast's 88 s read K 7.6 % high) reads the wrong gain: K·ū = rise + T·ẏ over it.
@@ -1347,14 +1412,20 @@ bool Autotune::compute_chunk() {
     // relay's, kept when the fan came on). (The fan step's window reads its own ẏ: sub 2.)
     // Cycle sums: |dev| ≤ 2^13 per tick × ≤ 2^16 ticks.
     // first_ticks_ + last_ticks_ in 32 bits: each is up to 2^16 − 1 ticks, and int is 16 bits on AVR.
-    if (sub == 0) {
+    if (sub == 0 && part == 0) {
       v.a_hi = first_ticks_ > 0 ? first_dev_ / first_ticks_ : 0;
+    } else if (sub == 0) {
+      v.sigma_q6 = lag_sigma_q6(v.k_q8);
     } else if (sub == 1 && part == 1) {
-      // A lag-type hotend's S is its sensor's steepest heat-up slope, (K − rise there)/T, where
-      // the fall's ẏ/S wants the block's K/T: the factor (K − rise)/K, Q16 (K < 2^19, × 2^16 by
-      // div_q16's shifts). (light-fast read F +20 % without it.)
+      // A lag-type hotend's S is its sensor's steepest heat-up slope, where the fall's ẏ/S wants
+      // the duty that drives the two lags' Σ·ẏ: the factor Σ·S/K, Q16 (Σ·S < 2^29 >> 6; div_q16
+      // scales; seed003 read F 52 % against 42.6 without it). No lag fit: the tangent's own
+      // (K − rise there)/K (light-fast read F +20 % without either).
       v.a_lo = 65535;
-      if (probe_.continuous && v.k_q8 > probe_.slope_rise_q8 && probe_.slope_rise_q8 > 0) {
+      if (v.sigma_q6 > 0) {
+        const uint32_t r = div_q16((static_cast<uint32_t>(v.sigma_q6) * static_cast<uint32_t>(slope_q8_)) >> 6, static_cast<uint32_t>(v.k_q8));
+        v.a_lo = static_cast<int32_t>(r > 65535 ? 65535 : r);
+      } else if (probe_.continuous && v.k_q8 > probe_.slope_rise_q8 && probe_.slope_rise_q8 > 0) {
         const uint32_t r = div_q16(static_cast<uint32_t>(v.k_q8 - probe_.slope_rise_q8), static_cast<uint32_t>(v.k_q8));
         v.a_lo = static_cast<int32_t>(r > 65535 ? 65535 : r);
       }
@@ -1396,7 +1467,7 @@ bool Autotune::compute_chunk() {
   }
   if (s < k0 + kCycleSteps * stored) {
     s = static_cast<uint8_t>(s - k0);
-    StoredCycle& c = stored_[s / kCycleSteps];
+    StoredCycle& c = scratch_.stored[s / kCycleSteps];
     uint8_t sub = static_cast<uint8_t>(s % kCycleSteps);
     if (sub < 2) {
       // The reading noise lifts what the relay measured, each from the 4-reading mean (σ_f = σ/2):
@@ -1527,9 +1598,15 @@ bool Autotune::compute_chunk() {
       if (probe_.continuous && v.k_q8 > probe_.slope_rise_q8) {
         // A lag-type hotend (its response started within the first pulse and steepened
         // smoothly): the relay's FOPDT formulas misread a lag as a long time constant. T from
-        // the heat-up instead: the steepest slope S = (K − rise there)/T (< 2^19 · 2^9).
-        const uint32_t num = static_cast<uint32_t>(v.k_q8 - probe_.slope_rise_q8) * static_cast<uint32_t>(seconds_q8(kTicksPerBin));
-        m.time_constant_q8 = static_cast<int32_t>((num + static_cast<uint32_t>(slope_q8_) / 2) / static_cast<uint32_t>(slope_q8_));
+        // the heat-up instead: the lag fit's Σ (< 2^16 bins × 64, × s per bin (q8) < 2^13), or
+        // the tangent's: the steepest slope S = (K − rise there)/T (< 2^19 · 2^9).
+        const uint32_t per_bin = static_cast<uint32_t>(seconds_q8(kTicksPerBin));
+        if (v.sigma_q6 > 0) {
+          m.time_constant_q8 = static_cast<int32_t>((static_cast<uint32_t>(v.sigma_q6) * per_bin + 32u) >> 6);
+        } else {
+          const uint32_t num = static_cast<uint32_t>(v.k_q8 - probe_.slope_rise_q8) * per_bin;
+          m.time_constant_q8 = static_cast<int32_t>((num + static_cast<uint32_t>(slope_q8_) / 2) / static_cast<uint32_t>(slope_q8_));
+        }
       }
       return false;
     case 4:

@@ -35,7 +35,8 @@
 //             fall give the duty that holds the rise with the fan, ū_F = u − ẏ/S
 //   compute   K from mean temperature / mean duty; T and L from the relay's asymmetric-FOPDT
 //             formulas, the reading noise's lift first taken off each cycle's extremes and
-//             switch levels (lag-type hotends: T from the heat-up slope, L from the relay amplitude;
+//             switch levels (lag-type hotends: T = τ1 + τ2 − the tangent's dead time, τ1 + τ2 from
+//             a fit of K·t − ∫y = Σ·y + Π·ẏ at two heat-up points (else the heat-up slope), L from the relay amplitude;
 //             a cold cut probe: T = p/ln(K/(K − peak)) from its pulse where it agrees within 20 %);
 //             F = K·ū_F/rise − 1 from the fan step; K corrected for the relay's drift
 //             (K·ū = rise + T·ẏ); one small piece per step (≈ 122 steps)
@@ -172,6 +173,9 @@ class Autotune {
   uint8_t bin_stage(uint8_t stage);  // one piece of the bin's slow logic; the next stage or 0
   uint8_t baseline_stage(uint8_t stage);
   uint8_t probe_stage(uint8_t stage);
+  void heat_sample(uint16_t k, int32_t slope);
+  void lag_fit_stage();
+  int32_t lag_sigma_q6(int32_t k_q8) const;
   uint8_t begin_stage(uint8_t stage);
   uint8_t approach_stage(uint8_t stage);
   uint8_t relay_stage(uint8_t stage);
@@ -303,6 +307,18 @@ class Autotune {
     uint8_t retries;
     uint16_t max_tick;       // probe tick of the highest reading after the cut (0: a flat peak)
     int32_t slope_rise_q8;   // rise at the centre of the steepest heat-up window (cut probe: its smoothed peak)
+    int32_t area_q8;         // Σ dev over bins 1..k−2 at full power (°C × 256 × bins): the heat-up's integral
+    // The tangent path's lag fit (lag_fit_stage): Σ = τ1 + τ2 = (K·p − q)/r once K is known;
+    // r = 0: none.
+    int32_t fit_p_q6;        // bins × 64
+    int32_t fit_q_q8;        // °C × 256 × bins
+    int32_t fit_r_q8;        // °C × 256
+  };
+  // A point of the heat-up at full power (bin centre, in bins since the pulse began; the tangent
+  // path's lag fit): its rise above the baseline, slope per bin and integral since the pulse began.
+  struct HeatSample {
+    int32_t dev_q8, slope_q8, area_q8;
+    uint8_t centre;  // 0: none
   };
   Probe probe_ = {};
   int32_t start_q8_ = 0;       // reading at start()
@@ -381,7 +397,14 @@ class Autotune {
 
   int16_t ring_[kRingBins] = {};  // Smith predictor: model's undelayed rise per bin − offset, °C × 16
   uint8_t duty_ring_[kRingBins] = {};  // mean duty per bin, 255 = 100 %
-  StoredCycle stored_[kMaxStoredCycles] = {};
+  // The relay's cycles; before the relay, the heat-up's two latest samples at power-of-two bins
+  // (the probe's scratch: the relay stores its first cycle long after the hand-over read them).
+  union Scratch {
+    constexpr Scratch() : stored{} {}
+    StoredCycle stored[kMaxStoredCycles];
+    HeatSample heat[2];
+  };
+  Scratch scratch_;
   // compute_chunk's own figures, reached through one pointer (near() in autotune.cpp): their
   // place in the object then costs nothing.
   struct Compute {
@@ -389,6 +412,7 @@ class Autotune {
     int32_t a_hi, a_lo, log, ln, lambda, mean_q8, duty;  // temporaries
     uint32_t theta;
     int32_t t_sum_q8, l_sum_q8;
+    int32_t sigma_q6;  // τ1 + τ2 from the heat-up's lag fit, bins × 64 (0: none)
     uint8_t tl_count;
   };
   Compute c_ = {};

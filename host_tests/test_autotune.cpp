@@ -823,6 +823,35 @@ TEST(Autotune, RelayDriftCorrectedWithoutTheFan) {
   }
 }
 
+// Two lags of comparable size (seed003's 28.3 and 14.2 s, and two more ratios): the probe hands
+// over before the heat-up's inflection, where the tangent's (K − y)/S reads τ1 + τ2 long by
+// τ1·τ2·ÿ/ẏ (seed003: 48 s against 42.5), and with it the fan step's F (52 % against 42.6), and
+// relay cycles whose d changed read K 2.2 % high (the lags carry the new d's transient across the
+// cycles' ends). The fit of K·t − ∫y = Σ·y + Π·ẏ at two heat-up points and a d held over the
+// measured cycles: F within 10 % of the plant's (60/30 reads 38.5–39 %: its fan window ends
+// before the fall's own inflection), K within 1.5 %, and C = Σ − the tangent's dead time shorter
+// than Σ (seed003's old figures, K 459.8, C 43.0, F 52.0 %, fail all three).
+TEST(Autotune, TwoLagHotendsReadTheLagSumAndTheFanLoss) {
+  struct Lags {
+    double t1, t2;
+  };
+  for (const Lags l : {Lags{0.64 * 44.2696, 0.32 * 44.2696}, Lags{40, 10}, Lags{60, 30}}) {
+    const design::LtiModel m = design::with_seed_fan(design::second_order(450, l.t1, l.t2));
+    const Plant p{"two-lag", m, 210, 25, false, 450, l.t1, 0, l.t2, 0};
+    for (unsigned long long seed : {12345ULL, 1ULL, 2ULL}) {
+      const TuneRun r = run(p, 5, true, 0.1, false, 1.0, -1, false, 3600, seed);
+      ASSERT_EQ(r.state, AutotuneState::kFinished) << l.t1 << "/" << l.t2;
+      const control::HotendModel& h = r.result.model;
+      std::printf("two lags %.1f/%.1f seed %llu: K %.1f C %.2f (Σ %.1f) D %.2f F %.1f (true %.1f)\n", l.t1, l.t2, seed,
+                  q8(h.rise_q8), q8(h.time_constant_q8), l.t1 + l.t2, q8(h.dead_time_q8), q8(h.fan_loss_pct_q8),
+                  fan_pct(m, 450));
+      EXPECT_NEAR(q8(h.rise_q8), 450, 0.015 * 450) << l.t1 << "/" << l.t2 << " seed " << seed;
+      EXPECT_NEAR(q8(h.fan_loss_pct_q8), fan_pct(m, 450), 0.10 * fan_pct(m, 450)) << l.t1 << "/" << l.t2 << " seed " << seed;
+      EXPECT_LT(q8(h.time_constant_q8), l.t1 + l.t2) << l.t1 << "/" << l.t2 << " seed " << seed;
+    }
+  }
+}
+
 }  // namespace
 
 // A light 80 W block (6 J/K, 1 s sensor lag) behind a 20 s transport delay: its cut probe peaks

@@ -1393,7 +1393,8 @@ __attribute__((noinline)) int32_t Autotune::lag_sigma_q6(int32_t k_q8) const {
 }
 
 // The final arithmetic, one piece per step (at most one 32-bit division or two logarithms):
-// 0–5 K (0–2 the drift); 15 per stored cycle (the noise lift, then T, L from the relay); 4 for K with the fan (step);
+// 0–5 K (0–2 the drift); 15 per stored cycle (the noise lift, then T, L from the relay); 6 for the
+// lag fit's Σ and K with the fan (step);
 // 10 for F, the averages, the probe's C and the result.
 bool Autotune::compute_chunk() {
   Compute& v = near(c_);
@@ -1401,7 +1402,7 @@ bool Autotune::compute_chunk() {
   const uint8_t stored = stored_count_ < kMaxStoredCycles ? stored_count_ : kMaxStoredCycles;
   constexpr uint8_t k0 = 6;  // compute steps of the no-fan gain
   uint8_t s = compute_step_++;
-  if (s < k0 || (s >= k0 + kCycleSteps * stored && s < k0 + kFanSteps + kCycleSteps * stored)) {  // fan: subs 1–5
+  if (s < k0 || (s >= k0 + kCycleSteps * stored && s < k0 + kFanSteps + kCycleSteps * stored)) {  // fan: subs 0–5
     // Gain = mean rise / mean duty over the measured cycles [0] or the fan step [1].
     const uint8_t part = s < k0 ? 0 : 1;
     const uint8_t sub = s < k0 ? s : static_cast<uint8_t>(s - k0 - kCycleSteps * stored);
@@ -1421,14 +1422,14 @@ bool Autotune::compute_chunk() {
       // the duty that drives the two lags' Σ·ẏ: the factor Σ·S/K, Q16 (Σ·S < 2^29 >> 6; div_q16
       // scales; seed003 read F 52 % against 42.6 without it). No lag fit: the tangent's own
       // (K − rise there)/K (light-fast read F +20 % without either).
-      v.a_lo = 65535;
+      uint32_t x = 0;  // the factor's numerator, °C × 256 like K (0: none, factor 1)
       if (v.sigma_q6 > 0) {
-        const uint32_t r = div_q16((static_cast<uint32_t>(v.sigma_q6) * static_cast<uint32_t>(slope_q8_)) >> 6, static_cast<uint32_t>(v.k_q8));
-        v.a_lo = static_cast<int32_t>(r > 65535 ? 65535 : r);
+        x = (static_cast<uint32_t>(v.sigma_q6) * static_cast<uint32_t>(slope_q8_)) >> 6;
       } else if (probe_.continuous && v.k_q8 > probe_.slope_rise_q8 && probe_.slope_rise_q8 > 0) {
-        const uint32_t r = div_q16(static_cast<uint32_t>(v.k_q8 - probe_.slope_rise_q8), static_cast<uint32_t>(v.k_q8));
-        v.a_lo = static_cast<int32_t>(r > 65535 ? 65535 : r);
+        x = static_cast<uint32_t>(v.k_q8 - probe_.slope_rise_q8);
       }
+      const uint32_t r = x > 0 ? div_q16(x, static_cast<uint32_t>(v.k_q8)) : 65535u;
+      v.a_lo = static_cast<int32_t>(r > 65535 ? 65535 : r);
     } else if (sub == 1) {
       v.a_lo = (last_ticks_ > 0 ? last_dev_ / last_ticks_ : 0) - v.a_hi;
       v.a_hi = (static_cast<int32_t>(sum_ticks_[0]) - div2n(int32_t{first_ticks_} + last_ticks_, 1)) >> 3;  // span, bins

@@ -45,8 +45,12 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
     l_q8 += margin_q8;
     out->lag_paced = 20 * tune.sensor_lag_q8 <= tune.model.time_constant_q8;
   }
-  // Lag above C/20 (20·lag < 2^26): two lags, provided D (after the margins) stays below C/2.
-  out->two_lags = tune.sensor_lag_q8 > 0 && !out->lag_paced;
+  // Any lag seen: two lags, provided D (after the margins) stays below C/2. Also on the two-node
+  // hotends (lag ≤ C/20), where the paced one-state law, whose dead time stands for the lag,
+  // overshot 0.4–1.7 °C (hotend80w 1.39–1.68 °C, 1.25–1.29 × bound; host rig, 4 noise seeds)
+  // and two lags 0.02–0.19 °C, 0.95–1.11 × (docs/autotune.md, "Two lags on every lag").
+  // lag_paced then only matters if the board refuses the two-lag law.
+  out->two_lags = tune.sensor_lag_q8 > 0;
   // An unsure model (the probe's response outlasted the model history: seed000's higher-order
   // hotends) of no lag-type hotend: its D is short of the response's, and a D too short
   // overshoots; the more so the longer L is against C. Margin L·max(3/8, 7.5·L/C), at most L.

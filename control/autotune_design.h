@@ -22,16 +22,16 @@ namespace control {
 struct TunedDesign {
   HotendModel model;  // M307; its dead time is the L the PID rule used
   PidGains pid;       // M301
-  // A small thermistor lag (≤ C/20) folded into D: the state feedback's loop is then kept no
-  // faster than D (design_state_feedback_fopdt's dead_time_paced). hotend80w's full-power rise
-  // of 44 s gave T_cl 2.8 s against D 4.7: 1.30 °C of overshoot; paced 0.45 °C, 1.04 × bound.
+  // A small thermistor lag (≤ C/20) folded into D: should the board refuse the two-lag law, the
+  // one-state loop is kept no faster than D (design_state_feedback_fopdt's dead_time_paced).
+  // hotend80w's full-power rise of 44 s gave T_cl 2.8 s against D 4.7: 1.30 °C of overshoot.
   bool lag_paced;
-  // A lag-dominated hotend (the tune saw a thermistor lag above C/20, and D < C/2): the state
-  // feedback is the two-state design of two lags τ1 = C, τ2 = D (design_state_feedback_two_lags).
-  // Host rig after U1, noise seeds 12345, 1–3: seed003 2.06–2.13 → 0.86–0.89 × bound, heavy-slow
-  // 1.68–1.70 → 0.98–1.01 × (docs/autotune.md, "Design"). Not on the two-node hotends (lag
-  // ≤ C/20, paced instead: the two-lag design was 2–3 % slower there) nor without a lag seen
-  // (hotend40w-delay5: a transport delay, which two lags without dead time oscillate on).
+  // The tune saw a thermistor lag (and D < C/2): the state feedback is the two-state design of
+  // two lags τ1 = C, τ2 = D (design_state_feedback_two_lags). Host rig after U1, noise seeds
+  // 12345, 1–3: seed003 2.06–2.13 → 0.86–0.89 × bound, heavy-slow 1.68–1.70 → 0.98–1.01 ×
+  // (docs/autotune.md, "Design"); on the two-node hotends (lag ≤ C/20) overshoot 0.4–1.7 → ≤ 0.2 °C
+  // at 0.95–1.11 × (paced: 1.04–1.29 ×). Not without a lag seen (hotend40w-delay5: a transport
+  // delay, which two lags without dead time oscillate on).
   bool two_lags;
 };
 
@@ -79,5 +79,10 @@ inline bool dead_time_leads(const AutotuneResult& tune, const TunedDesign& desig
 inline bool tune_bounds_tightly(const AutotuneResult& tune) {
   return !tune.hot_start && 20 * tune.sensor_lag_q8 <= tune.model.time_constant_q8 && !tune.unsure;
 }
+
+// Whether a heat-up may follow the tuned model (fuzzy-PID with M310 F0 does): not after a hot
+// start or an unsure tune, whose C may be read long (fopdt-fast after M109 S200: 39 s for 30 s;
+// seed000-4: 1.7 ×), so that full power would stay on too long.
+inline bool tune_heat_up_trusted(const AutotuneResult& tune) { return !tune.hot_start && !tune.unsure; }
 
 }  // namespace control

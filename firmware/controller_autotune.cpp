@@ -256,7 +256,7 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   }
   Settings next = bank_.settings();
   next.model = d.model;
-  next.model_tuned = control::tune_bounds_tightly(r) ? kModelMeasured : kModelMeasuredLoose;
+  next.model_tuned = tuned_model_source(r);
   next.pid = d.pid;
   next.controller = static_cast<uint8_t>(use_sf ? ControllerId::kStateFeedback : ControllerId::kPid);
   next.feedforward = 1;

@@ -22,6 +22,13 @@ namespace firmware {
 constexpr int32_t kMinTuneTargetQ8 = 50L * 256;
 constexpr int32_t kMaxTuneTargetQ8 = 255L * 256;
 
+// How far M303 U1's model is trusted (Settings::model_tuned, controller_settings.h).
+inline uint8_t tuned_model_source(const control::AutotuneResult& r) {
+  return control::tune_bounds_tightly(r)     ? kModelMeasured
+         : control::tune_heat_up_trusted(r) ? kModelMeasuredLoose
+                                            : kModelMeasuredUnsure;
+}
+
 class AutotuneJob {
  public:
   enum class Stop : uint8_t { kUser, kFault };  // M108 / M104 S0 / M112, or a latched fault

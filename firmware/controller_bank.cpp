@@ -199,10 +199,12 @@ __attribute__((noinline)) uint16_t ControllerBank::step_pid_family(const control
   if (in.target_q8 != ff_target_q8_) prepare_feedforward(in.target_q8);
   if (in.fan_duty != ff_fan_) follow_fan(in.fan_duty);
   if (settings_.feedforward != 0 && id == ControllerId::kPid) return step_model_following(in);
-  // Fuzzy-PID's model heat-up with F0 wants a model that bounds the hotend tightly: on the loose
-  // one of an unsure tune (seed000-4, C read 1.7 × long) it overshot by 35 °C; the fan share
-  // above it takes from any measured model.
-  if (id == ControllerId::kFuzzyPid && (settings_.feedforward != 0 || settings_.model_tuned == kModelMeasured)) {
+  // Fuzzy-PID's model heat-up with F0 wants a model whose C is not read long: on an unsure
+  // tune's (seed000-4, C 1.7 × long) it overshot by 35 °C. A lag-dominated hotend's loose model
+  // is fine, and without it the rules' cut ki took minutes to build the steady duty (seed003:
+  // −6.9 °C after 300 s). The fan share above takes from any measured model.
+  if (id == ControllerId::kFuzzyPid && (settings_.feedforward != 0 || settings_.model_tuned == kModelMeasured ||
+                                        settings_.model_tuned == kModelMeasuredLoose)) {
     return step_fuzzy(in);
   }
   const bool update = !ff_applied_;

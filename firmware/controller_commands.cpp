@@ -77,7 +77,7 @@ const SettingParam kProtectionParams[] GCODE_PROGMEM = {  // M570
     SETTING_PARAM('T', 0, protect_tuned_c, kProtectMinC, kProtectMaxC),
     SETTING_PARAM('U', 0, protect_default_c, kProtectMinC, kProtectMaxC),
     SETTING_PARAM('P', 0, watch_period_s, kWatchMinPeriodS, kWatchMaxPeriodS),
-    SETTING_PARAM('S', 0, model_tuned, 0, 1)};
+    SETTING_PARAM('S', 0, model_tuned, kModelDefault, kModelMeasuredUnsure)};
 #undef SETTING_PARAM
 
 // Every parameter of the table checked (the first bad one gets its Error line and nothing
@@ -99,8 +99,12 @@ bool edit_settings(ControllerBank& bank, const gcode::Command& cmd, gcode::Outpu
   }
   if (!given) return false;
   if (model_measured) next.model_tuned = kModelMeasured;  // the host vouches for it: the model check gets tight (M570 T)
-  // M570 S0 widens a measured model's check; the model stays measured (its fan term with F0).
-  if (next.model_tuned == kModelDefault && bank.settings().model_tuned != kModelDefault) next.model_tuned = kModelMeasuredLoose;
+  // M570 S0 widens a measured model's check; the model stays measured (its fan term with F0),
+  // an unsure one unsure. S2/S3 (M503's replay) mark a measured model only: the default stays.
+  const uint8_t before = bank.settings().model_tuned;
+  if (before == kModelDefault && next.model_tuned != kModelMeasured) next.model_tuned = kModelDefault;
+  if (next.model_tuned == kModelDefault && before != kModelDefault)
+    next.model_tuned = before == kModelMeasuredUnsure ? kModelMeasuredUnsure : kModelMeasuredLoose;
   out.refusal_line(bank.apply(next, now));
   return true;
 }
@@ -212,8 +216,10 @@ void ControllerCommands::write_protection(gcode::Output& out) const {
   out.write_int(s.protect_default_c);
   out.print(GCODE_TEXT(" P"));
   out.write_int(s.watch_period_s);
-  out.print(s.model_tuned == kModelMeasured ? GCODE_TEXT(" S1 ; model check: T (measured model)\n")
-                          : GCODE_TEXT(" S0 ; model check: U (default or unsure model)\n"));
+  out.print(GCODE_TEXT(" S"));
+  out.write_int(s.model_tuned);
+  out.print(s.model_tuned == kModelMeasured ? GCODE_TEXT(" ; model check: T (measured model)\n")
+                                            : GCODE_TEXT(" ; model check: U (default, loose or unsure model)\n"));
 }
 
 void ControllerCommands::report(gcode::Output& out) {

@@ -22,11 +22,13 @@ static_assert(kDefaultController != static_cast<uint8_t>(ControllerId::kStateFee
 
 constexpr uint16_t kControlPeriodMs = 128;  // brief: 128 ticks of 1 ms
 
-// Where Settings::model came from (Settings::model_tuned). A measured model feeds the PID
-// family's part-fan term and fuzzy-PID's model heat-up also with M310 F0; only a tight one arms
-// the model check's tight threshold (M570 T). M303 leaves a hot start's, a lag-dominated
-// hotend's and an unsure tune's model loose: good enough for a load share, not for a fault.
-enum ModelSource : uint8_t { kModelDefault = 0, kModelMeasured = 1, kModelMeasuredLoose = 2 };
+// Where Settings::model came from (Settings::model_tuned). Any measured model feeds the PID
+// family's part-fan term also with M310 F0; only a tight one arms the model check's tight
+// threshold (M570 T). M303 leaves a lag-dominated hotend's model loose (its FOPDT reaches full
+// slope sooner than the lags do: good for a load share and a heat-up, not for a fault), and a
+// hot start's or an unsure tune's model unsure: its C may be read long, so fuzzy-PID with F0
+// does not follow its heat-up either (a long C keeps full power on too long).
+enum ModelSource : uint8_t { kModelDefault = 0, kModelMeasured = 1, kModelMeasuredLoose = 2, kModelMeasuredUnsure = 3 };
 
 struct Settings {
   control::PidGains pid;          // M301, Marlin units Q16 (S0, S2 around them, S3)

@@ -19,6 +19,7 @@
 #include "design/lti_model.h"
 #include "design/plant_sim.h"
 #include "design/seed_models.h"
+#include "firmware/controller_autotune.h"
 #include "firmware/controller_bank.h"
 #include "host_tests/controller_rig.h"
 #include "host_tests/heat_fan_step.h"
@@ -120,7 +121,7 @@ inline Applied applied(const control::AutotuneResult& r, control::TunedDesign d,
   a.sf_ok = control::design_tuned_state_feedback(&d, firmware::kControlPeriodMs, &a.sf);
   a.settings = firmware::default_settings();
   a.settings.model = d.model;
-  a.settings.model_tuned = control::tune_bounds_tightly(r) ? firmware::kModelMeasured : firmware::kModelMeasuredLoose;
+  a.settings.model_tuned = firmware::tuned_model_source(r);
   a.settings.pid = d.pid;
   a.settings.controller =
       static_cast<uint8_t>(use_sf && a.sf_ok ? firmware::ControllerId::kStateFeedback : firmware::ControllerId::kPid);

@@ -23,10 +23,10 @@ struct Limits {
 };
 
 // Issue 7's targets, or (misses, measured at this commit on noise seed 12345, σ 0.1 °C) a
-// ceiling a little above the figure so that a worse design fails: hotend80w overshoots 1.64 °C
-// here (0.43 in simavr). heavy-slow and seed003 (one-state design: 1.69 × and 2.13 ×) meet the
-// targets with the two-lag design (1.01 ×, 0.89 ×).
-const std::map<std::string, Limits> kMisses = {{"hotend80w", {1.8, 1.30}}};
+// ceiling a little above the figure so that a worse design fails. None now: heavy-slow and
+// seed003 (one-state design: 1.69 × and 2.13 ×) meet the targets with the two-lag design
+// (1.01 ×, 0.89 ×), and so does hotend80w (paced one-state law: 1.58 °C, 1.25 ×).
+const std::map<std::string, Limits> kMisses = {};
 
 TEST(AutotuneAfterU1, EveryPlantMeetsTheTargetsOrItsKnownMiss) {
   std::printf("%-17s %-7s %8s %8s %7s %6s %8s\n", "plant", "U1", "os °C", "set ×", "p-p °C", "dip °C", "D s");
@@ -67,12 +67,14 @@ TEST(AutotuneAfterU1, TransportDelayedHotendSettlesWithin1_2BoundOverNoiseSeeds)
   }
 }
 
-// Lag-dominated hotends (thermistor lag > C/20): U1 designs the two-lag state feedback, which
-// settled them within the targets over these noise seeds (σ 0.1 °C: seed003 0.86–0.89 ×,
-// heavy-slow 0.98–1.01 ×; the one-state design 2.06–2.13 × and 1.68–1.70 ×).
-TEST(AutotuneAfterU1, LagDominatedHotendsGetTheTwoLagDesignAndSettleWithinTheTargets) {
+// Hotends whose tune saw a thermistor lag: U1 designs the two-lag state feedback, which settled
+// them within the targets over these noise seeds (σ 0.1 °C: seed003 0.86–0.89 ×, heavy-slow
+// 0.98–1.01 ×, where the one-state design took 2.06–2.13 × and 1.68–1.70 ×; on the two-node
+// hotends, lag ≤ C/20, overshoot ≤ 0.19 °C at 0.95–1.11 ×, where the paced one-state design
+// overshot hotend80w by 1.39–1.68 °C at 1.25–1.29 × and hotend40w by 0.44–0.96 °C).
+TEST(AutotuneAfterU1, LaggingHotendsGetTheTwoLagDesignAndSettleWithinTheTargets) {
   const std::vector<after_u1::Plant> ps = after_u1::plants();
-  for (const char* name : {"seed003", "heavy-slow"}) {
+  for (const char* name : {"seed003", "heavy-slow", "hotend40w", "hotend30w", "hotend80w", "light-fast"}) {
     const after_u1::Plant* p = after_u1::find(ps, name);
     ASSERT_NE(p, nullptr);
     for (unsigned long long seed : {12345ULL, 1ULL, 2ULL, 3ULL}) {
@@ -194,7 +196,9 @@ namespace {
 // fuzzy-PID selected on it with M310 F0 still carry the part fan's share of that model: without
 // it the fan step dipped 29 °C and never came back (simavr, RAMPS); with it 5.4–6.1 °C and back
 // in ±1 °C within 90–170 s while the tune read F 21 % high. With the heat-up's lag fit (F +7 %)
-// this rig measures 1.78 °C / 87 s (PID) and 4.84 °C / 28 s (fuzzy-PID).
+// this rig measures 1.78 °C / 87 s (PID) and 4.84 °C / 28 s (fuzzy-PID). Fuzzy-PID's heat-up
+// follows that loose model too: by feedback alone its rules' cut ki left it −6.9 °C (4.3 °C p-p)
+// after 300 s; now it settles in 105 s (PID, by feedback: 211 s) and the fan step costs 1.65 °C.
 TEST(AutotuneAfterU1, LooseModelsFanShareReachesThePidFamilyWithF0) {
   const std::vector<after_u1::Plant> ps = after_u1::plants();
   const after_u1::Plant* p = after_u1::find(ps, "seed003");
@@ -214,8 +218,15 @@ TEST(AutotuneAfterU1, LooseModelsFanShareReachesThePidFamilyWithF0) {
     bank.init(firmware::default_settings());
     ASSERT_EQ(bank.apply(a.settings, cold), nullptr);
     const heat_fan_step::Result h = heat_fan_step::run(bank, p->model, p->target_c, p->fan_s, p->run_s, 0.05);
-    std::printf("seed003 %s F0: fan step |error| %.2f °C, back in ±1 °C after %.1f s\n",
-                id == firmware::ControllerId::kPid ? "pid" : "fuzzy", h.dip_c, h.recovery_s);
+    std::printf("seed003 %s F0: overshoot %.2f °C, settled %.1f s, steady mean %.2f p-p %.2f °C; fan step |error| %.2f °C, back in ±1 °C after %.1f s\n",
+                id == firmware::ControllerId::kPid ? "pid" : "fuzzy", h.overshoot_c, h.settling_s, h.steady_mean_c,
+                h.steady_pp_c, h.dip_c, h.recovery_s);
+    // The heat-up by HIL3's limits (sim/CMakeLists.txt): within ±1 °C before the steady window,
+    // no offset, no oscillation, overshoot ≤ 3 °C.
+    EXPECT_LE(h.overshoot_c, 3.0) << static_cast<int>(id);
+    EXPECT_LT(h.settling_s, 0.75 * p->fan_s) << static_cast<int>(id);
+    EXPECT_LE(std::fabs(h.steady_mean_c), 0.5) << static_cast<int>(id);
+    EXPECT_LE(h.steady_pp_c, 1.0) << static_cast<int>(id);
     EXPECT_LE(h.dip_c, 8.0) << static_cast<int>(id);
     EXPECT_GE(h.recovery_s, 0.0) << static_cast<int>(id);
     EXPECT_LE(h.recovery_s, 200.0) << static_cast<int>(id);

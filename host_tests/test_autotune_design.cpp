@@ -156,10 +156,10 @@ TEST(AutotuneDesign, UnsureMarginGrowsWithDeadTimeOverTimeConstant) {
   EXPECT_EQ(d.model.dead_time_q8, control::kModelMaxDeadTimeQ8);
 }
 
-// Which tunes get the two-lag state feedback: a thermistor lag above C/20 (seed003, heavy-slow),
-// with D (after the margins) at most C/2. Not a small lag (two-node hotends: paced), not a tune
-// without a lag (FOPDT plants, hotend40w-delay5's transport delay).
-TEST(AutotuneDesign, TwoLagsOnlyForALagAboveATwentiethOfC) {
+// Which tunes get the two-lag state feedback: any thermistor lag seen (seed003, heavy-slow, and
+// the two-node hotends' small one), with D (after the margins) below C/2. Not a tune without a
+// lag (FOPDT plants, hotend40w-delay5's transport delay).
+TEST(AutotuneDesign, TwoLagsWheneverTheTuneSawALag) {
   control::TunedDesign d;
   control::AutotuneResult r = tune_of(460, 42.9, 9.41, 36.1);  // seed003, seed 12345
   r.sensor_lag_q8 = static_cast<int32_t>(5.25 * 256);
@@ -174,12 +174,13 @@ TEST(AutotuneDesign, TwoLagsOnlyForALagAboveATwentiethOfC) {
   r.sensor_lag_q8 = static_cast<int32_t>(26.62 * 256);
   ASSERT_TRUE(control::design_from_tune(r, 128, &d));
   EXPECT_TRUE(d.two_lags);
-  r = tune_of(1226, 257.4, 4.04, 70.6);  // hotend80w: lag 3.46 s ≤ C/20
+  r = tune_of(1226, 257.4, 4.04, 70.6);  // hotend80w: lag 3.46 s ≤ C/20 (paced if refused)
   r.sensor_lag_q8 = static_cast<int32_t>(3.46 * 256);
   ASSERT_TRUE(control::design_from_tune(r, 128, &d));
-  EXPECT_FALSE(d.two_lags);
+  EXPECT_TRUE(d.two_lags);
+  EXPECT_TRUE(d.lag_paced);
   ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
-  EXPECT_EQ(k.n, 1);
+  EXPECT_EQ(k.n, 2);
   r = tune_of(603, 270.3, 7.78, 21.3);  // hotend40w-delay5: no lag seen, a late peak
   r.late_peak = true;
   ASSERT_TRUE(control::design_from_tune(r, 128, &d));

@@ -55,9 +55,12 @@ design::Design host_design(const HotendModel& m) {
   return design::design_state_feedback(model, o);
 }
 
-// K 300–1200 °C, τ1 20–400 s, τ2 6–45 % of τ1 (at least 0.5 s), F 0–60 %.
+// K 300–1200 °C, τ1 20–400 s, τ2 1.2–45 % of τ1 (at least 0.5 s), F 0–60 %. The small ratios are
+// the two-node hotends' (hotend40w/80w: a 4.5 s lag on C ≈ 245 s; light-fast 1 s on 88 s), which
+// U1 also serves with two lags.
 std::vector<TwoLags> grid() {
-  const double ks[] = {300, 450, 700, 1200}, ts[] = {20, 45, 100, 220, 400}, rs[] = {0.06, 0.12, 0.25, 0.45};
+  const double ks[] = {300, 450, 700, 1200}, ts[] = {20, 45, 100, 220, 400},
+               rs[] = {0.012, 0.02, 0.06, 0.12, 0.25, 0.45};
   const double fs[] = {0, 25, 42.65, 60};
   std::vector<TwoLags> out;
   int i = 0;

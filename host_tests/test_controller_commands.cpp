@@ -281,6 +281,14 @@ TEST(ControllerCommands, StoredProtectionOutOfRangeIsRefusedWhole) {
   bad.watch_period_s = 5;
   EXPECT_NE(rig.machine.bank.replace_all(bad, nullptr, firmware::HandOver{0, 0, false}), nullptr);
   EXPECT_EQ(rig.machine.bank.settings().protect_tuned_c, 2);
+  // The model's source: 0..3 (default, measured, loose, unsure) load; a byte beyond is corrupt.
+  firmware::Settings unsure = rig.machine.bank.settings();
+  unsure.model_tuned = firmware::kModelMeasuredUnsure;
+  EXPECT_EQ(rig.machine.bank.replace_all(unsure, nullptr, firmware::HandOver{0, 0, false}), nullptr);
+  bad = rig.machine.bank.settings();
+  bad.model_tuned = firmware::kModelMeasuredUnsure + 1;
+  EXPECT_NE(rig.machine.bank.replace_all(bad, nullptr, firmware::HandOver{0, 0, false}), nullptr);
+  EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelMeasuredUnsure);
 }
 
 }  // namespace

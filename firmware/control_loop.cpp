@@ -17,7 +17,6 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
   temp_q8_ = sensor::adc_q6_to_temp_q8(adc_q6);
   Fault fault = guard_.update(adc_q6, temp_q8_);
   const bool plausible = fault == Fault::kNone && !guard_.reading_bad();
-  if (plausible) fault = watch_.update(heater_.target_q8(), temp_q8_, ran_q16);
   bool newly_latched = false;
   uint16_t duty_q16;
   if (fault != Fault::kNone) {
@@ -37,16 +36,21 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
 
   // The watchdog is kicked here and only here: if control periods stop, the board resets.
   hal::watchdog::kick();
-  // The model check runs after the duty is out, outside the timed step: inside it measured
-  // +1,220 cycles mean, +1,600 max (pid+ff, ATmega2560, simavr) — past the 3,000-cycle budget; a fault it finds switches the
-  // heater off in this same period. It sees the duty that ran (M303's too) and runs with the
-  // heater off as well: a heater stuck on is found with no target set.
+  // The heating watch and the model check run after the duty is out, outside the timed step
+  // (the check inside it measured +1,220 cycles mean, +1,600 max: pid+ff, ATmega2560, simavr;
+  // the watch took the 5-state state feedback's step with a fan step to 3,001 cycles); a fault
+  // either finds switches the heater off in this same period (HeaterManager::trip forces the pin
+  // low first). Both see the duty that ran (M303's too); the check runs with the heater off as
+  // well: a heater stuck on is found with no target set.
   if (plausible && !newly_latched) {
-    const control::ModelCheck::Verdict verdict = check_.step(temp_q8_, ran_q16, airflow_.airflow());
-    if (verdict == control::ModelCheck::Verdict::kHeatsTooMuch) {
-      fault = Fault::kStuckOn;
-    } else if (verdict == control::ModelCheck::Verdict::kHeatsTooLittle) {
-      fault = watch_.reached() ? Fault::kModelRunaway : Fault::kModelHeatingFailed;
+    fault = watch_.update(heater_.target_q8(), temp_q8_, ran_q16);
+    if (fault == Fault::kNone) {
+      const control::ModelCheck::Verdict verdict = check_.step(temp_q8_, ran_q16, airflow_.airflow());
+      if (verdict == control::ModelCheck::Verdict::kHeatsTooMuch) {
+        fault = Fault::kStuckOn;
+      } else if (verdict == control::ModelCheck::Verdict::kHeatsTooLittle) {
+        fault = watch_.reached() ? Fault::kModelRunaway : Fault::kModelHeatingFailed;
+      }
     }
     if (fault != Fault::kNone) {
       newly_latched = latch(fault);
@@ -56,7 +60,7 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
     }
   }
   if (newly_latched) unreported_ = static_cast<uint16_t>(unreported_ | (1u << static_cast<uint8_t>(fault)));
-  // Outside the timed step (the 5-state state feedback's has ~10 cycles to spare): the next
+  // Outside the timed step (the 5-state state feedback's has little to spare): the next
   // period's airflow, with the duty the pin has now (M106 before then retargets it).
   airflow_.step(hal::fan_pwm::duty());
 }

@@ -1,6 +1,7 @@
 // One control period (every 128 ms, when the tick ISR publishes a 128-sample ADC window):
-// convert, check, control, hand the duty to the PWM -- bracketed by the GPIOR0 marker the
-// simulator times. Faults found here are latched in the heater manager and reported.
+// convert, range-check, control, hand the duty to the PWM -- bracketed by the GPIOR0 marker the
+// simulator times -- then the heating watch and the model check. Faults found here are latched in
+// the heater manager (the pin forced low at once) and reported.
 #pragma once
 #include <stdint.h>
 

@@ -204,7 +204,7 @@ __attribute__((noinline)) uint16_t ControllerBank::step_pid_family(const control
   // is fine, and without it the rules' cut ki took minutes to build the steady duty (seed003:
   // −6.9 °C after 300 s). The fan share above takes from any measured model.
   if (id == ControllerId::kFuzzyPid && (settings_.feedforward != 0 || settings_.model_tuned == kModelMeasured ||
-                                        settings_.model_tuned == kModelMeasuredLoose)) {
+                                        settings_.model_tuned == kModelMeasuredLag)) {
     return step_fuzzy(in);
   }
   const bool update = !ff_applied_;

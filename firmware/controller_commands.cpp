@@ -77,7 +77,7 @@ const SettingParam kProtectionParams[] GCODE_PROGMEM = {  // M570
     SETTING_PARAM('T', 0, protect_tuned_c, kProtectMinC, kProtectMaxC),
     SETTING_PARAM('U', 0, protect_default_c, kProtectMinC, kProtectMaxC),
     SETTING_PARAM('P', 0, watch_period_s, kWatchMinPeriodS, kWatchMaxPeriodS),
-    SETTING_PARAM('S', 0, model_tuned, kModelDefault, kModelMeasuredUnsure)};
+    SETTING_PARAM('S', 0, model_tuned, kModelDefault, kModelMeasuredLag)};
 #undef SETTING_PARAM
 
 // Every parameter of the table checked (the first bad one gets its Error line and nothing
@@ -98,13 +98,9 @@ bool edit_settings(ControllerBank& bank, const gcode::Command& cmd, gcode::Outpu
     given = given || cmd.has(param.letter);
   }
   if (!given) return false;
-  if (model_measured) next.model_tuned = kModelMeasured;  // the host vouches for it: the model check gets tight (M570 T)
-  // M570 S0 widens a measured model's check; the model stays measured (its fan term with F0),
-  // an unsure one unsure. S2/S3 (M503's replay) mark a measured model only: the default stays.
-  const uint8_t before = bank.settings().model_tuned;
-  if (before == kModelDefault && next.model_tuned != kModelMeasured) next.model_tuned = kModelDefault;
-  if (next.model_tuned == kModelDefault && before != kModelDefault)
-    next.model_tuned = before == kModelMeasuredUnsure ? kModelMeasuredUnsure : kModelMeasuredLoose;
+  // M307 (the host vouches for its model) makes it measured: the model check gets tight (M570 T).
+  // M570 S sets the model's source as is (M503 prints it after M307, so a replay restores it).
+  if (model_measured) next.model_tuned = kModelMeasured;
   out.refusal_line(bank.apply(next, now));
   return true;
 }
@@ -198,10 +194,11 @@ void ControllerCommands::fuzzy(const gcode::Command& cmd, gcode::Output& out, co
 
 void ControllerCommands::sync_staging() { bank_.sync_staging(); }
 
-// M570 T<°C> U<°C> P<s> S<0|1>: the protection's thresholds (RepRapFirmware's M570 and Prusa's
-// M310 set heater-fault detection; the letters here are our own). S is which of T and U the model
-// check uses: M307 and M303 set it, and M503 prints it after M307 so that replaying M503 keeps a
-// model that M303 left on the wide margin (hot start, lag-dominated) there. All checked first.
+// M570 T<°C> U<°C> P<s> S<0..3>: the protection's thresholds (RepRapFirmware's M570 and Prusa's
+// M310 set heater-fault detection; the letters here are our own). S is the model's source
+// (ModelSource: 0 default, 1 measured, 2 loose, 3 lag-dominated), which decides whether T or U
+// applies: M307 and M303 set it, and M503 prints it after M307 so that replaying M503 restores a
+// default, loose or lag-dominated model as it was. All checked first.
 void ControllerCommands::protection(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
   if (edit_settings(bank_, cmd, out, now, kProtectionParams, count_of(kProtectionParams), false)) return;
   out.print(echo_text());
@@ -219,7 +216,7 @@ void ControllerCommands::write_protection(gcode::Output& out) const {
   out.print(GCODE_TEXT(" S"));
   out.write_int(s.model_tuned);
   out.print(s.model_tuned == kModelMeasured ? GCODE_TEXT(" ; model check: T (measured model)\n")
-                                            : GCODE_TEXT(" ; model check: U (default, loose or unsure model)\n"));
+                                            : GCODE_TEXT(" ; model check: U (default, loose or lag-dominated model)\n"));
 }
 
 void ControllerCommands::report(gcode::Output& out) {
@@ -233,7 +230,7 @@ void ControllerCommands::report(gcode::Output& out) {
   out.print(GCODE_TEXT("echo:; Controller (M310 S0 PID, S1 state feedback, S2 fuzzy-PID, S3 Marlin PID; F1 model feedforward):\n"
                        "echo:  "));
   write_selection(out);
-  out.print(GCODE_TEXT("echo:; Heater protection (M570 T model check degC, U with the default model degC, P watch window s, S1 T applies):\n"
+  out.print(GCODE_TEXT("echo:; Heater protection (M570 T model check degC, U with the default model degC, P watch window s, S model: 0 default, 1 measured (T applies), 2 loose, 3 lag-dominated):\n"
                        "echo:  "));
   write_protection(out);
 }

@@ -22,13 +22,14 @@ static_assert(kDefaultController != static_cast<uint8_t>(ControllerId::kStateFee
 
 constexpr uint16_t kControlPeriodMs = 128;  // brief: 128 ticks of 1 ms
 
-// Where Settings::model came from (Settings::model_tuned). Any measured model feeds the PID
-// family's part-fan term also with M310 F0; only a tight one arms the model check's tight
-// threshold (M570 T). M303 leaves a lag-dominated hotend's model loose (its FOPDT reaches full
-// slope sooner than the lags do: good for a load share and a heat-up, not for a fault), and a
-// hot start's or an unsure tune's model unsure: its C may be read long, so fuzzy-PID with F0
-// does not follow its heat-up either (a long C keeps full power on too long).
-enum ModelSource : uint8_t { kModelDefault = 0, kModelMeasured = 1, kModelMeasuredLoose = 2, kModelMeasuredUnsure = 3 };
+// Where Settings::model came from (Settings::model_tuned; M570 S sets it as is, M503 prints it).
+// Any measured model (1–3) feeds the PID family's part-fan term also with M310 F0; only a tight
+// one (1) arms the model check's tight threshold (M570 T). Fuzzy-PID with F0 follows the model's
+// heat-up on 1 and 3. M303 marks a hot start's or an unsure tune's model loose (2): its C may be
+// read long, and a long C keeps full power on too long (2 is also what older firmware stored for
+// any loose model, so an old EEPROM block keeps its behaviour). A lag-dominated hotend's model is
+// 3: its FOPDT reaches full slope sooner than the lags do, good for a heat-up, not for a fault.
+enum ModelSource : uint8_t { kModelDefault = 0, kModelMeasured = 1, kModelMeasuredLoose = 2, kModelMeasuredLag = 3 };
 
 struct Settings {
   control::PidGains pid;          // M301, Marlin units Q16 (S0, S2 around them, S3)
@@ -38,7 +39,7 @@ struct Settings {
   uint8_t fuzzy_spread_pct;       // M312 S: fuzzy schedule spans M301 × (1 ∓ spread)
   uint16_t fuzzy_e_factor_q12;    // M312 E: universe units per °C, Q12
   uint16_t fuzzy_ec_factor_q12;   // M312 C: universe units per °C/s, Q12
-  uint8_t model_tuned;            // a ModelSource: default, measured, or measured but checked loosely
+  uint8_t model_tuned;            // a ModelSource: default, measured, loose, or lag-dominated
   uint8_t protect_tuned_c;        // M570 T: model check's evidence threshold, °C, tuned model
   uint8_t protect_default_c;      // M570 U: the same with the default model
   uint16_t watch_period_s;        // M570 P: the model-free heating watch's window, s

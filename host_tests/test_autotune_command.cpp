@@ -332,22 +332,22 @@ TEST(AutotuneCommand, AHeaterThatDoesNotHeatFailsClearly) {
 namespace {
 
 // How far U1 trusts the model it applies (Settings::model_tuned): tight where nothing speaks
-// against it; loose for a lag above C/20 (the model check's FOPDT bounds would trip, but a heat-up
-// may follow it: fuzzy-PID F0 does); unsure after a hot start or an unsure tune, whose C may be
-// read long (neither the tight check nor the model heat-up of fuzzy-PID F0).
+// against it; lag-dominated for a lag above C/20 (the model check's FOPDT bounds would trip, but a
+// heat-up may follow it: fuzzy-PID F0 does); loose after a hot start or an unsure tune, whose C
+// may be read long (neither the tight check nor the model heat-up of fuzzy-PID F0).
 TEST(AutotuneCommand, U1MarksHowFarTheModelIsTrusted) {
   control::AutotuneResult r{};
   r.model = control::HotendModel{450 * 256, 200 * 256, 10 * 256, 43 * 256};
   r.sensor_lag_q8 = 10 * 256;  // = C/20
   EXPECT_EQ(firmware::tuned_model_source(r), firmware::kModelMeasured);
   r.sensor_lag_q8 = 10 * 256 + 1;
-  EXPECT_EQ(firmware::tuned_model_source(r), firmware::kModelMeasuredLoose);
+  EXPECT_EQ(firmware::tuned_model_source(r), firmware::kModelMeasuredLag);
   r.hot_start = true;
-  EXPECT_EQ(firmware::tuned_model_source(r), firmware::kModelMeasuredUnsure);
+  EXPECT_EQ(firmware::tuned_model_source(r), firmware::kModelMeasuredLoose);
   r.hot_start = false;
   r.sensor_lag_q8 = 0;
   r.unsure = true;
-  EXPECT_EQ(firmware::tuned_model_source(r), firmware::kModelMeasuredUnsure);
+  EXPECT_EQ(firmware::tuned_model_source(r), firmware::kModelMeasuredLoose);
 }
 
 }  // namespace

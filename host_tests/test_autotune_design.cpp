@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 #include "control/autotune_design.h"
 #include "control/state_feedback_autodesign.h"
@@ -215,6 +216,16 @@ TEST(AutotuneDesign, RefusedTwoLagLawFallsBackToTheFopdtDesign) {
   ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
   EXPECT_EQ(k.n, 1);
   EXPECT_FALSE(d.two_lags);
+  // A small lag's tune (lag_paced) falls back to the paced one-state law.
+  d.two_lags = true;
+  d.lag_paced = true;
+  control::StateFeedbackConstants paced, unpaced;
+  ASSERT_TRUE(control::design_state_feedback_fopdt(d.model, 128, &paced, true));
+  ASSERT_TRUE(control::design_state_feedback_fopdt(d.model, 128, &unpaced, false));
+  ASSERT_NE(std::memcmp(&paced, &unpaced, sizeof paced), 0);
+  ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
+  EXPECT_FALSE(d.two_lags);
+  EXPECT_EQ(std::memcmp(&k, &paced, sizeof k), 0);
 }
 
 TEST(AutotuneDesign, RefusesModelsOutsideM307sRange) {

@@ -165,7 +165,7 @@ TEST(ControllerBank, FeedforwardReachesThePidFamilyAndFollowsTheFan) {
 // model on the loose check (a lag-dominated, hot-start or unsure tune): seed003's tuned PID and
 // fuzzy-PID dipped 29 °C at the fan step without it and never came back (simavr). The default
 // model gives none, and fuzzy-PID's model heat-up needs a model whose C is trusted (tight or
-// lag-dominated loose; not an unsure one), or F1.
+// lag-dominated; not a loose one from a hot start or an unsure tune), or F1.
 TEST(ControllerBank, F0CarriesTheFanShareOfAnyMeasuredModel) {
   ControllerBank bank(load_cell);
   start(bank, false);
@@ -173,7 +173,7 @@ TEST(ControllerBank, F0CarriesTheFanShareOfAnyMeasuredModel) {
   model.configure(control::kHotend40wModel);
   const uint16_t share = static_cast<uint16_t>(model.duty_q16(210L * 256, 255) - model.duty_q16(210L * 256, 0));
   for (uint8_t source : {firmware::kModelDefault, firmware::kModelMeasured, firmware::kModelMeasuredLoose,
-                         firmware::kModelMeasuredUnsure}) {
+                         firmware::kModelMeasuredLag}) {
     for (uint8_t controller : {0, 2}) {
       Settings s = with(controller, 0);
       s.model_tuned = source;
@@ -189,20 +189,21 @@ TEST(ControllerBank, F0CarriesTheFanShareOfAnyMeasuredModel) {
       }
     }
   }
-  // Just below the target (1 °C, fan off), fuzzy-PID F0's model heat-up runs on a tight or loose
-  // model: on an unsure one the output is the feedback alone, as on the default model.
+  // Just below the target (1 °C, fan off), fuzzy-PID F0's model heat-up runs on a tight or a
+  // lag-dominated model: on a loose one (hot start, unsure tune) the output is the feedback alone,
+  // as on the default model.
   uint16_t out[4];
   for (uint8_t source : {firmware::kModelDefault, firmware::kModelMeasured, firmware::kModelMeasuredLoose,
-                         firmware::kModelMeasuredUnsure}) {
+                         firmware::kModelMeasuredLag}) {
     Settings s = with(2, 0);
     s.model_tuned = source;
     ASSERT_EQ(bank.apply(s, kCold), nullptr);
     bank.reset();
     out[source] = bank.step({210L * 256, 209L * 256, 0});
   }
-  EXPECT_EQ(out[firmware::kModelMeasuredUnsure], out[firmware::kModelDefault]);
+  EXPECT_EQ(out[firmware::kModelMeasuredLoose], out[firmware::kModelDefault]);
   EXPECT_NE(out[firmware::kModelMeasured], out[firmware::kModelDefault]);
-  EXPECT_EQ(out[firmware::kModelMeasuredLoose], out[firmware::kModelMeasured]);
+  EXPECT_EQ(out[firmware::kModelMeasuredLag], out[firmware::kModelMeasured]);
 }
 
 }  // namespace

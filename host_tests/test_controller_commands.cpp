@@ -227,40 +227,48 @@ TEST(ControllerCommands, M502ForgetsTheUploadAndFallsBackToTheDefaultController)
 // whether the model check runs on a tuned model (M303/M307) or the default.
 TEST(ControllerCommands, M570SetsTheProtectionAndRefusesOutOfRange) {
   Rig rig;
-  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T2 U15 P120 S0 ; model check: U (default, loose or unsure model)\nok\n");
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T2 U15 P120 S0 ; model check: U (default, loose or lag-dominated model)\nok\n");
   EXPECT_EQ(rig.send("M570 T5 P60\n"), "ok\n");
-  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S0 ; model check: U (default, loose or unsure model)\nok\n");
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S0 ; model check: U (default, loose or lag-dominated model)\nok\n");
   EXPECT_EQ(rig.send("M570 T1\n"), "Error:M570 T must be an integer in 2..60\nok\n");
   EXPECT_EQ(rig.send("M570 T6 P700\n"), "Error:M570 P must be an integer in 20..600\nok\n");  // T not applied
   EXPECT_EQ(rig.send("M570 U2.5\n"), "Error:M570 U must be an integer in 2..60\nok\n");
-  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S0 ; model check: U (default, loose or unsure model)\nok\n");
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S0 ; model check: U (default, loose or lag-dominated model)\nok\n");
   EXPECT_EQ(rig.send("M307 A500\n"), "ok\n");  // a model the host vouches for: the check tightens
   EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S1 ; model check: T (measured model)\nok\n");
   EXPECT_EQ(rig.send("M570 S4\n"), "Error:M570 S must be an integer in 0..3\nok\n");
-  EXPECT_EQ(rig.send("M570 S0\n"), "ok\n");  // back to the wide check, the model kept
-  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S2 ; model check: U (default, loose or unsure model)\nok\n");
+  EXPECT_EQ(rig.send("M570 S2\n"), "ok\n");  // back to the wide check, the model kept as measured
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S2 ; model check: U (default, loose or lag-dominated model)\nok\n");
   EXPECT_EQ(rig.machine.bank.settings().model.rise_q8, 500 * 256);
   // ...and still measured: the PID family's fan share with F0 keeps coming from it.
   EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelMeasuredLoose);
   EXPECT_EQ(rig.send("M570 S1\n"), "ok\n");
   EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelMeasured);
+  EXPECT_EQ(rig.send("M570 S3\n"), "ok\n");
+  EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelMeasuredLag);
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S3 ; model check: U (default, loose or lag-dominated model)\nok\n");
+  EXPECT_EQ(rig.send("M570 S0\n"), "ok\n");  // as is: the model counts as the default's
+  EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelDefault);
+  EXPECT_EQ(rig.send("M570 S4\n"), "Error:M570 S must be an integer in 0..3\nok\n");
+  EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelDefault);
   rig.send("M502\n");
-  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T2 U15 P120 S0 ; model check: U (default, loose or unsure model)\nok\n");
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T2 U15 P120 S0 ; model check: U (default, loose or lag-dominated model)\nok\n");
   EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelDefault);
-  EXPECT_EQ(rig.send("M570 S0\n"), "ok\n");  // the default model stays the default
-  EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelDefault);
-  EXPECT_EQ(rig.send("M570 S3\n"), "ok\n");  // S2/S3 qualify a measured model only
-  EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelDefault);
-  // An unsure model (M303 from a hot start, or an unsure tune) stays unsure under S0.
-  EXPECT_EQ(rig.send("M307 A500\nM570 S3\nM570 S0\n"), "ok\nok\nok\n");
-  EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelMeasuredUnsure);
-  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T2 U15 P120 S3 ; model check: U (default, loose or unsure model)\nok\n");
 }
 
-// M503 prints M570 after M307: replaying it keeps a model that M303 left on the wide check
-// (hot start, lag-dominated or unsure) there, instead of M307 marking it measured.
-TEST(ControllerCommands, ReplayedM503KeepsAnUnsureModelOnTheWideCheck) {
-  for (const char* s : {"S0", "S3"}) {
+// M503 prints M570 after M307: replaying it restores the model's source as it was (default,
+// loose: hot start or unsure tune, lag-dominated), instead of M307 marking it measured. The
+// default model most of all: marked measured or lag-dominated, fuzzy-PID F0 would follow the
+// heat-up of a model nobody measured.
+TEST(ControllerCommands, ReplayedM503KeepsTheModelsSource) {
+  {
+    Rig rig;  // the default model, untouched
+    ASSERT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelDefault);
+    Rig fresh;
+    for (const std::string& line : settings_lines(rig)) fresh.send(line + "\n");
+    EXPECT_EQ(fresh.machine.bank.settings().model_tuned, firmware::kModelDefault);
+  }
+  for (const char* s : {"S0", "S2", "S3"}) {
     Rig rig;
     rig.send(std::string("M307 A500 C200 D6 F30\nM570 ") + s + "\n");
     const uint8_t source = rig.machine.bank.settings().model_tuned;
@@ -281,14 +289,14 @@ TEST(ControllerCommands, StoredProtectionOutOfRangeIsRefusedWhole) {
   bad.watch_period_s = 5;
   EXPECT_NE(rig.machine.bank.replace_all(bad, nullptr, firmware::HandOver{0, 0, false}), nullptr);
   EXPECT_EQ(rig.machine.bank.settings().protect_tuned_c, 2);
-  // The model's source: 0..3 (default, measured, loose, unsure) load; a byte beyond is corrupt.
-  firmware::Settings unsure = rig.machine.bank.settings();
-  unsure.model_tuned = firmware::kModelMeasuredUnsure;
-  EXPECT_EQ(rig.machine.bank.replace_all(unsure, nullptr, firmware::HandOver{0, 0, false}), nullptr);
+  // The model's source: 0..3 (default, measured, loose, lag-dominated) load; a byte beyond is corrupt.
+  firmware::Settings lag = rig.machine.bank.settings();
+  lag.model_tuned = firmware::kModelMeasuredLag;
+  EXPECT_EQ(rig.machine.bank.replace_all(lag, nullptr, firmware::HandOver{0, 0, false}), nullptr);
   bad = rig.machine.bank.settings();
-  bad.model_tuned = firmware::kModelMeasuredUnsure + 1;
+  bad.model_tuned = firmware::kModelMeasuredLag + 1;
   EXPECT_NE(rig.machine.bank.replace_all(bad, nullptr, firmware::HandOver{0, 0, false}), nullptr);
-  EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelMeasuredUnsure);
+  EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelMeasuredLag);
 }
 
 }  // namespace

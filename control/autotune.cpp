@@ -393,6 +393,8 @@ AutotuneOutput Autotune::step(int32_t y) {
     stage_ = bin_stage(stage_);  // first: they must be done before the next bin
   } else if (cycle_stage_ != 0) {
     cycle_stage_ = cycle_stage(cycle_stage_);  // ≥ 16 steps to the next cycle's end
+  } else if (fit_.stage != 0) {
+    fit_.stage = fit_stage(fit_.stage);
   }
   return {duty_q16_, fan_, state_, failure_, event_};
 }
@@ -413,6 +415,135 @@ void Autotune::bin_end() {
   if (phase_ != Phase::kApproach && phase_ != Phase::kRelay) {
     push_bin(0);
   }
+  fit_bin();
+}
+
+// ∫u and ∫y from the probe on (before it the heater was off and a cold hotend at ambient: both
+// ≈ 0), and a sample for the sums from the approach and the relay while the last one is done.
+// A cold start only (a hot one is not at rest). Σ duty ≤ 256 per bin and the rise ≤ 2^17 per bin
+// over a tune of at most 4 × the configured limit (< 8,000 bins): < 2^31.
+__attribute__((noinline)) void Autotune::fit_bin() {
+  LagFit& f = near(fit_);
+  if (hot_start_ || phase_ < Phase::kProbe || phase_ > Phase::kRelay) return;
+  const int32_t rise = y_bin_q8_ - ambient_q8_;
+  f.iu_q8 += last_bin_duty_q8_;
+  f.iy_q8 += rise;
+  if (phase_ < Phase::kApproach || f.stage != 0 || rise < 30 * kQ8 || f.samples == 0xFFFF) return;
+  f.x_q8[0] = f.iu_q8;
+  f.x_q8[1] = rise;
+  f.x_q8[2] = slope4_q8();
+  f.x_q8[3] = f.iy_q8;
+  f.stage = 1;
+}
+
+// Product (stage + 3)/4 (1–9) of the latched sample into its sum, in four pieces of one Scaled
+// operation each (≤ ~500 AVR cycles: the normalisation shifts bit by bit, control/fixed_math.h):
+// the two factors into m9 and m10, their product, the sum. On a step with no other piece.
+__attribute__((noinline)) uint8_t Autotune::fit_stage(uint8_t stage) {
+  using namespace fixed_math;
+  LagFit& f = near(fit_);
+  Scaled* m = store_.fit;
+  const uint8_t k = static_cast<uint8_t>((stage - 1) >> 2);  // 0–8
+  const uint8_t piece = static_cast<uint8_t>((stage - 1) & 3);
+  if (piece < 2) {
+    // k 0–5: the pairs 00 01 02 11 12 22; 6–8: 03 13 23 (no table: it would take RAM on AVR).
+    uint8_t i = 0, j = 3;
+    if (k > 5) {
+      i = static_cast<uint8_t>(k - 6);
+    } else {
+      i = k > 4 ? 2 : (k > 2 ? 1 : 0);
+      j = static_cast<uint8_t>(k - (i == 0 ? 0 : i + 1));
+    }
+    m[9 + piece] = scaled(f.x_q8[piece == 0 ? i : j], -8);
+  } else if (piece == 2) {
+    m[9] = mul(m[9], m[10]);
+  } else {
+    m[k] = add(m[k], m[9]);
+    if (k == 8) {
+      ++f.samples;
+      return 0;
+    }
+  }
+  return static_cast<uint8_t>(stage + 1);
+}
+
+namespace {
+enum FitOp : uint8_t { kFitDiv, kFitSubMul, kFitMul, kFitAdd };
+// m[d] = m[a] / m[b], m[d] − m[a]·m[b], m[a]·m[b] or m[a] + m[b]: one call per piece keeps
+// fit_solve small (its pieces inline were 1.7 KB of AVR flash).
+__attribute__((noinline)) void fit_op(fixed_math::Scaled* m, FitOp op, uint8_t d, uint8_t a, uint8_t b) {
+  using namespace fixed_math;
+  switch (op) {
+    case kFitDiv: m[d] = div(m[a], m[b]); break;
+    case kFitSubMul: m[d] = sub(m[d], mul(m[a], m[b])); break;
+    case kFitMul: m[d] = mul(m[a], m[b]); break;
+    default: m[d] = add(m[a], m[b]); break;
+  }
+}
+}  // namespace
+
+// The normal equations M·(K, −Σ, −Π) = v (M symmetric positive definite: elimination without
+// pivoting), one division or product per piece, then τ1,2 = (Σ ± √(Σ² − 4Π))/2 by Newton's
+// iteration from Σ (8 steps: τ2 ≤ τ1/2, which the result needs, gives Σ² − 4Π ≥ Σ²/9, and from
+// 3× the root 8 steps reach it to 2^-29). In bins until the last piece. Returns the next piece, 0
+// when done (x_q8 then holds K, τ1, τ2, or τ1 = 0: no fit).
+__attribute__((noinline)) uint8_t Autotune::fit_solve(uint8_t stage) {
+  using namespace fixed_math;
+  LagFit& f = near(fit_);
+  Scaled* m = store_.fit;  // 0 m00, 1 m01, 2 m02, 3 m11, 4 m12, 5 m22, 6 v0, 7 v1, 8 v2, 9 temporary
+  switch (stage) {
+    case 1: fit_op(m, kFitDiv, 9, 1, 0); break;     // l10 = m01/m00
+    case 2: fit_op(m, kFitSubMul, 3, 9, 1); break;  // a11
+    case 3: fit_op(m, kFitSubMul, 4, 9, 2); break;  // a12
+    case 4: fit_op(m, kFitSubMul, 7, 9, 6); break;  // w1
+    case 5: fit_op(m, kFitDiv, 9, 2, 0); break;     // l20 = m02/m00
+    case 6: fit_op(m, kFitSubMul, 5, 9, 2); break;  // a22
+    case 7: fit_op(m, kFitSubMul, 8, 9, 6); break;  // w2
+    case 8: fit_op(m, kFitDiv, 9, 4, 3); break;     // l21 = a12/a11
+    case 9: fit_op(m, kFitSubMul, 5, 9, 4); break;
+    case 10: fit_op(m, kFitSubMul, 8, 9, 7); break;
+    case 11: fit_op(m, kFitDiv, 8, 8, 5); break;    // −Π
+    case 12: fit_op(m, kFitSubMul, 7, 4, 8); break;
+    case 13: fit_op(m, kFitDiv, 7, 7, 3); break;    // −Σ
+    case 14: fit_op(m, kFitSubMul, 6, 1, 7); break;
+    case 15: fit_op(m, kFitSubMul, 6, 2, 8); break;
+    case 16: fit_op(m, kFitDiv, 6, 6, 0); break;    // K
+    case 17:
+      // Σ (m7), Π (m8), Σ² (m5).
+      m[7] = neg(m[7]);
+      m[8] = neg(m[8]);
+      fit_op(m, kFitMul, 5, 7, 7);
+      break;
+    case 18:
+      // Σ² − 4Π; no real pair (or a negative Σ or Π): no fit.
+      m[9] = ldexp(m[8], 2);
+      m[5] = sub(m[5], m[9]);
+      if (is_negative(m[7]) || is_negative(m[8]) || m[8].m == 0 || is_negative(m[5]) || m[5].m == 0) {
+        f.x_q8[1] = 0;
+        return 0;
+      }
+      m[4] = m[7];
+      break;
+    case 35: fit_op(m, kFitAdd, 4, 7, 4); break;  // 2·τ1
+    case 36: m[4] = ldexp(m[4], -1); fit_op(m, kFitDiv, 9, 8, 4); break;  // τ1, τ2 = Π/τ1 (bins)
+    case 37: f.x_q8[0] = round_scaled(m[6], 8); break;  // K
+    // Bins to s × 256: × 8 ticks × period_ms (≤ 2000) / 1000 (τ ≤ 2^31 / 2^19 ms·256 per bin).
+    case 38: m[10] = scaled(int32_t{kTicksPerBin} * period_ms_); break;
+    case 39: fit_op(m, kFitMul, 4, 4, 10); break;
+    case 40: fit_op(m, kFitMul, 9, 9, 10); break;
+    case 41: f.x_q8[1] = round_scaled(m[4], 8) / 1000; break;
+    case 42: f.x_q8[2] = round_scaled(m[9], 8) / 1000; return 0;
+    default:
+      // 19–34: Newton, r ← (r + d/r)/2.
+      if (stage & 1) {
+        fit_op(m, kFitDiv, 9, 5, 4);
+      } else {
+        fit_op(m, kFitAdd, 4, 4, 9);
+        m[4] = ldexp(m[4], -1);
+      }
+      break;
+  }
+  return static_cast<uint8_t>(stage + 1);
 }
 
 // Stages 1..9 belong to the phase; 20..22 are the probe → approach hand-over in any phase.
@@ -1397,7 +1528,24 @@ __attribute__((noinline)) int32_t Autotune::lag_sigma_q6(int32_t k_q8) const {
 // lag fit's Σ and K with the fan (step);
 // 10 for F, the averages, the probe's C and the result.
 bool Autotune::compute_chunk() {
-  Compute& v = near(c_);
+  // First the fit (an unsure cold tune with enough samples): its sum's last sample, its solution,
+  // then the storage it shares with the compute is cleared.
+  LagFit& f = near(fit_);
+  if (f.stage != 0) {
+    f.stage = fit_stage(f.stage);
+    return false;
+  }
+  if (f.solve != 0xFF) {
+    if (untrusted_ && !hot_start_ && f.samples >= kMinFitSamples) {
+      f.solve = fit_solve(static_cast<uint8_t>(f.solve + 1)) == 0 ? 0xFF : static_cast<uint8_t>(f.solve + 1);
+    } else {
+      f.x_q8[1] = 0;
+      f.solve = 0xFF;
+    }
+    if (f.solve == 0xFF) store_.c = Compute{};
+    return false;
+  }
+  Compute& v = near(store_.c);
   const int32_t rise_target = target_q8_ - ambient_q8_;
   const uint8_t stored = stored_count_ < kMaxStoredCycles ? stored_count_ : kMaxStoredCycles;
   constexpr uint8_t k0 = 6;  // compute steps of the no-fan gain
@@ -1708,6 +1856,17 @@ bool Autotune::compute_chunk() {
       result_.hot_start = hot_start_;
       result_.unsure = untrusted_;
       result_.noise_q8 = noise_n_ >= 16 ? noise_q8_ : AutotuneResult::kNoiseUnmeasured;
+      // The fit's two lags where they are a pair the two-lag law can use and its K agrees with
+      // the relay's within 1/8 (a record two lags do not describe fits K off). τ1/5 ≤ τ2 ≤ τ1/2:
+      // the law speeds the slow lag up by τ1/(0.6·τ2), and beyond ~8× the dead time the fit
+      // leaves out destabilises it: seed000-5 (τ 1,179/118 s, ~20 s of dead time) swung 2.6 °C
+      // p-p, so it keeps the FOPDT law. seed000-4 (host rig, σ 0.1 °C): τ 542/177 s for the
+      // plant's 521/176; after U1 0.91 × bound, 0.02 °C (the FOPDT law: 1.73 ×, 3.4 °C).
+      if (f.x_q8[2] > 0 && 2 * f.x_q8[2] <= f.x_q8[1] && f.x_q8[1] <= 5 * f.x_q8[2] && f.x_q8[1] <= kModelMaxTimeConstantQ8 &&
+          8 * abs32(f.x_q8[0] - v.k_q8) <= v.k_q8) {
+        m.time_constant_q8 = f.x_q8[1];
+        result_.second_lag_q8 = f.x_q8[2];
+      }
       return true;
   }
 }

@@ -47,6 +47,7 @@
 #include <stdint.h>
 
 #include "control/feedforward.h"
+#include "control/fixed_math.h"
 
 namespace control {
 
@@ -105,6 +106,9 @@ struct AutotuneResult {
                             // the relay's FOPDT folded into too short a D (hotend40w-delay5)
   uint16_t noise_q8;        // reading noise σ measured before the probe's response (°C × 256),
                             // kNoiseUnmeasured when that came within 16 readings
+  // An unsure cold tune whose whole record fits two lags (Autotune::LagFit): the second lag τ2
+  // (s × 256; model C is then the first, τ1), 0 otherwise.
+  int32_t second_lag_q8;
   static constexpr uint16_t kNoiseUnmeasured = 0xFFFF;
 };
 
@@ -121,6 +125,8 @@ class Autotune {
   // Reading noise σ above 0.3 °C (Q8; the estimate reads σ 0.3 as ≈ 0.27): a noisy sensor, on
   // which a dead-time hotend's relay halves last at least L̂ and M303 says so.
   static constexpr uint16_t kNoisyQ8 = 76;
+  // Samples the two-lag fit needs (one per ~5 bins at most): seed000's tunes give ~400.
+  static constexpr uint16_t kMinFitSamples = 100;
 
   constexpr Autotune() = default;
 
@@ -199,6 +205,9 @@ class Autotune {
   void end_cycle(uint16_t t_lo);
   uint8_t cycle_stage(uint8_t stage);
   bool compute_chunk();      // one piece of the final arithmetic; true when done
+  void fit_bin();                        // bin_end: the fit's integrals and its next sample
+  uint8_t fit_stage(uint8_t stage);      // one product of the latched sample into the sums
+  uint8_t fit_solve(uint8_t stage);      // one piece of the fit's solution (compute, first)
   int32_t seconds_q8(uint16_t ticks) const;
   uint32_t ticks_from_s(uint16_t s) const;
   static uint32_t clamp_half_ticks(uint32_t ticks);
@@ -415,11 +424,31 @@ class Autotune {
     int32_t sigma_q6;  // τ1 + τ2 from the heat-up's lag fit, bins × 64 (0: none)
     uint8_t tl_count;
   };
-  Compute c_ = {};
+  // Two-lag fit (seed000's higher-order hotends, whose probe outlasts the model history): from
+  // rest at ambient, K/((τ1 s + 1)(τ2 s + 1)) obeys K·∫u − ∫y = Σ·y + Π·ẏ for any input
+  // (integrate τ1τ2·ÿ + Σ·ẏ + y = K·u; Σ = τ1 + τ2, Π = τ1·τ2). Least squares for K, Σ, Π over
+  // the approach's and relay's bins more than 30 °C above ambient (the fan off). Its normal
+  // equations share the compute's storage: they are solved first (fit_solve), then cleared.
+  struct LagFit {
+    int32_t iu_q8;     // ∫u since the probe: Σ bin duty (256 = 100 %), duty × 256 × bins
+    int32_t iy_q8;     // ∫(y − ambient) since the probe, °C × 256 × bins
+    int32_t x_q8[4];   // the latched sample (∫u, rise, 4-bin slope, ∫y); solved: K, τ1, τ2 (s × 256)
+    uint16_t samples;
+    uint8_t stage;     // next product (fit_stage), 0: none pending
+    uint8_t solve;     // next piece of fit_solve, 0: not started
+  };
+  LagFit fit_ = {};
+  // Sums: Σ r_i·r_j (i ≤ j: 00 01 02 11 12 22), Σ r_i·∫y (0–2), and two temporaries; r = (∫u, y, ẏ).
+  union ComputeStore {
+    constexpr ComputeStore() : c{} {}
+    Compute c;
+    fixed_math::Scaled fit[11];
+  };
+  ComputeStore store_;
 
   AutotuneCycle cycle_{0, 0, 0, 0};
   AutotuneUltimate ultimate_{0, 0};
-  AutotuneResult result_{{0, 0, 0, 0}, 0, {0, 0}, 0, false, false, false, 0};
+  AutotuneResult result_{{0, 0, 0, 0}, 0, {0, 0}, 0, false, false, false, 0, 0};
 };
 
 }  // namespace control

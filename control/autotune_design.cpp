@@ -51,6 +51,13 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   // and two lags 0.02–0.19 °C, 0.95–1.11 × (docs/autotune.md, "Two lags on every lag").
   // lag_paced then only matters if the board refuses the two-lag law.
   out->two_lags = tune.sensor_lag_q8 > 0;
+  // An unsure tune whose record fits two lags (AutotuneResult::second_lag_q8; C is τ1): the
+  // two-lag law on τ1, τ2. seed000-4 (host rig after U1, σ 0.1 °C): 1.73 × bound and 3.4 °C of
+  // overshoot with the FOPDT law on C 988 s, D + margin 132 s; 0.9 × and 0.0 °C with τ 520/192 s.
+  if (tune.second_lag_q8 > 0) {
+    l_q8 = tune.second_lag_q8;
+    out->two_lags = true;
+  }
   // An unsure model (the probe's response outlasted the model history: seed000's higher-order
   // hotends) of no lag-type hotend: its D is short of the response's, and a D too short
   // overshoots; the more so the longer L is against C. Margin L·max(3/8, 7.5·L/C), at most L.
@@ -59,7 +66,7 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   // 3/8 gave 5.9–8.0 and ×1.5 / ×1.75 2.9–4.9 / 0 °C with 1.0–1.4 °C p-p
   // (docs/autotune.md, "Unsure models"). heavy-slow (a lag) was slower with it: not there.
   // L < 2^18 (Q8), so 15·L < 2^22 and the quotient L·15·L/(2·C) < 2^31 (C ≥ 1 s).
-  if (tune.unsure && tune.sensor_lag_q8 == 0) {
+  if (tune.unsure && tune.sensor_lag_q8 == 0 && tune.second_lag_q8 == 0) {
     int32_t margin_q8 = static_cast<int32_t>(
         fixed::mul_div_u32(static_cast<uint32_t>(l_q8), 15UL * static_cast<uint32_t>(l_q8), 2UL * t_q8));
     if (margin_q8 < 3 * l_q8 / 8) margin_q8 = 3 * l_q8 / 8;

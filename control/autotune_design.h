@@ -63,10 +63,10 @@ bool design_tuned_state_feedback(TunedDesign* design, uint16_t period_ms, StateF
 // gave it: the PID following seed000's model heat-up overshot 31–48 °C (its C is read long).
 inline bool dead_time_leads(const AutotuneResult& tune, const TunedDesign& design) {
   // ≤ 600 s × 256 (M307's bound): 8× fits int32
-  const int32_t dead_q8 =
-      tune.unsure && tune.sensor_lag_q8 == 0 ? tune.model.dead_time_q8 : design.model.dead_time_q8;
-  return 2 * dead_q8 >= design.model.time_constant_q8 ||
-         (tune.sensor_lag_q8 == 0 && 8 * dead_q8 >= design.model.time_constant_q8);
+  // (A second lag from the unsure tune's fit counts as a lag: design D is then τ2.)
+  const bool lag = tune.sensor_lag_q8 > 0 || tune.second_lag_q8 > 0;
+  const int32_t dead_q8 = tune.unsure && !lag ? tune.model.dead_time_q8 : design.model.dead_time_q8;
+  return 2 * dead_q8 >= design.model.time_constant_q8 || (!lag && 8 * dead_q8 >= design.model.time_constant_q8);
 }
 
 // Whether the protection's model check may bound the heater tightly by the tuned model (M307's

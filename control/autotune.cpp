@@ -419,7 +419,7 @@ void Autotune::bin_end() {
 }
 
 // ∫u and ∫y from the probe on (before it the heater was off and a cold hotend at ambient: both
-// ≈ 0), and a sample for the sums from the approach and the relay while the last one is done.
+// ≈ 0), and a sample for the sums from the approach and the relay once the last one is done.
 // A cold start only (a hot one is not at rest). Σ duty ≤ 256 per bin and the rise ≤ 2^17 per bin
 // over a tune of at most 4 × the configured limit (< 8,000 bins): < 2^31.
 __attribute__((noinline)) void Autotune::fit_bin() {
@@ -428,7 +428,8 @@ __attribute__((noinline)) void Autotune::fit_bin() {
   const int32_t rise = y_bin_q8_ - ambient_q8_;
   f.iu_q8 += last_bin_duty_q8_;
   f.iy_q8 += rise;
-  if (phase_ < Phase::kApproach || f.stage != 0 || rise < 30 * kQ8 || f.samples == 0xFFFF) return;
+  // Samples only where the fit can be used (an untrusted probe model: fit_solve's condition).
+  if (!untrusted_ || phase_ < Phase::kApproach || f.stage != 0 || rise < 30 * kQ8 || f.samples == 0xFFFF) return;
   f.x_q8[0] = f.iu_q8;
   f.x_q8[1] = rise;
   f.x_q8[2] = slope4_q8();

@@ -48,6 +48,7 @@
 
 #include "control/feedforward.h"
 #include "control/fixed_math.h"
+#include "control/lag_fit.h"
 
 namespace control {
 
@@ -424,25 +425,23 @@ class Autotune {
     int32_t sigma_q6;  // τ1 + τ2 from the heat-up's lag fit, bins × 64 (0: none)
     uint8_t tl_count;
   };
-  // Two-lag fit (seed000's higher-order hotends, whose probe outlasts the model history): from
-  // rest at ambient, K/((τ1 s + 1)(τ2 s + 1)) obeys K·∫u − ∫y = Σ·y + Π·ẏ for any input
-  // (integrate τ1τ2·ÿ + Σ·ẏ + y = K·u; Σ = τ1 + τ2, Π = τ1·τ2). Least squares for K, Σ, Π over
-  // the approach's and relay's bins more than 30 °C above ambient (the fan off). Its normal
-  // equations share the compute's storage: they are solved first (fit_solve), then cleared.
+  // Two-lag fit (control/lag_fit.h) for an untrusted probe model (seed000's higher-order
+  // hotends, whose probe outlasts the model history), cold starts only: samples from the
+  // approach's and the relay's bins more than 30 °C above ambient (the fan off). Its sums share
+  // the compute's storage: they are solved first (fit_solve), then the compute's are cleared.
   struct LagFit {
     int32_t iu_q8;     // ∫u since the probe: Σ bin duty (256 = 100 %), duty × 256 × bins
     int32_t iy_q8;     // ∫(y − ambient) since the probe, °C × 256 × bins
     int32_t x_q8[4];   // the latched sample (∫u, rise, 4-bin slope, ∫y); solved: K, τ1, τ2 (s × 256)
     uint16_t samples;
-    uint8_t stage;     // next product (fit_stage), 0: none pending
-    uint8_t solve;     // next piece of fit_solve, 0: not started
+    uint8_t stage;     // next piece of the latched sample (fit_stage), 0: none pending
+    uint8_t solve;     // last piece of fit_solve done, 0: not started, 0xFF: done (or skipped)
   };
   LagFit fit_ = {};
-  // Sums: Σ r_i·r_j (i ≤ j: 00 01 02 11 12 22), Σ r_i·∫y (0–2), and two temporaries; r = (∫u, y, ẏ).
   union ComputeStore {
     constexpr ComputeStore() : c{} {}
     Compute c;
-    fixed_math::Scaled fit[11];
+    fixed_math::Scaled fit[kLagFitSums];
   };
   ComputeStore store_;
 

@@ -52,6 +52,14 @@ __attribute__((noinline)) void write_design(gcode::Output& out, const control::A
                         : GCODE_TEXT("model (cold start: heat-up, relay"));
   out.print(r.model.fan_loss_pct_q8 != 0 ? GCODE_TEXT(", part fan): ") : GCODE_TEXT("): "));
   write_m307(out, r.model);
+  // An unsure tune's two-lag fit (control/lag_fit.h): its C is the first lag, and D above stays
+  // the relay's; the design uses the second as its D.
+  if (r.second_lag_q8 > 0) {
+    out.print(echo_autotune_text());
+    out.print(GCODE_TEXT("two lags fitted to the whole record: C and a second lag of "));
+    out.write_exact(r.second_lag_q8, 8);
+    out.print(GCODE_TEXT(" s\n"));
+  }
   // The reading noise the tune measured (σ, °C): above 0.3 °C a thermistor or its wiring is
   // noisy enough to cost the model accuracy (docs/autotune.md, "Noisy sensors").
   if (r.noise_q8 != control::AutotuneResult::kNoiseUnmeasured) {

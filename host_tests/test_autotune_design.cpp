@@ -260,3 +260,31 @@ TEST(AutotuneDesign, ClosedLoopMatchesTheHostDesign) {
 }
 
 }  // namespace
+
+namespace {
+
+// An unsure tune whose record fits two lags (seed000-4 in simavr: C 532.8 = τ1, τ2 188.7, relay
+// D 67.2, Tu 283): the two-lag law on τ1, τ2 with no unsure margin, and U1 keeps state feedback
+// (its relay D alone would hand it to the PID: 8·67 ≥ 533). Without the fit, the same tune keeps
+// the one-state design with the unsure margin.
+TEST(AutotuneDesign, AnUnsureTunesSecondLagGivesTheTwoLagLaw) {
+  control::AutotuneResult r = tune_of(456.16, 532.793, 67.156, 282.75, 47.754);
+  r.unsure = true;
+  r.second_lag_q8 = static_cast<int32_t>(std::lround(188.70 * 256));
+  control::TunedDesign d;
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_TRUE(d.two_lags);
+  EXPECT_EQ(d.model.dead_time_q8, r.second_lag_q8);
+  EXPECT_EQ(d.model.time_constant_q8, r.model.time_constant_q8);
+  EXPECT_FALSE(control::dead_time_leads(r, d));
+  control::StateFeedbackConstants k;
+  ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
+  EXPECT_EQ(k.n, 2);
+  r.second_lag_q8 = 0;
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_FALSE(d.two_lags);
+  EXPECT_GT(d.model.dead_time_q8, r.model.dead_time_q8);  // the unsure margin
+  EXPECT_TRUE(control::dead_time_leads(r, d));
+}
+
+}  // namespace

@@ -418,29 +418,45 @@ void Autotune::bin_end() {
   fit_bin();
 }
 
-// ∫u and ∫y from the probe on (before it the heater was off and a cold hotend at ambient: both
-// ≈ 0), and a sample for the sums from the approach and the relay once the last one is done.
-// A cold start only (a hot one is not at rest). Σ duty ≤ 256 per bin and the rise ≤ 2^17 per bin
-// over a tune of at most 4 × the configured limit (< 8,000 bins): < 2^31.
+// The probe's response time L̂ outlasts the model history (seed000's higher-order hotends; no
+// other bank plant, host rig at σ 0.02–0.5 °C): the one cause of an untrusted model the two-lag
+// fit serves. A retried probe or a plateau alone (a noisy FOPDT: fopdt-delay25 at ADC σ 8 LSB)
+// keeps the FOPDT model and never spends steps on the fit. (hb as begin_stage computes it.)
+bool Autotune::long_response() const {
+  return (static_cast<uint32_t>(horizon_ticks_) + kTicksPerBin - 1) / kTicksPerBin + 1 > kRingBins - 2;
+}
+
+// ∫u and ∫y from the probe on (before it the heater was off and a cold hotend at ambient: all
+// ≈ 0), the same first-order filter (16 bins) over ∫u, y and ∫y, and a sample for the sums from
+// the approach and the relay once the last one is done. Filtering every term alike keeps the
+// fit's equation exact, and the filtered y's change per bin is ẏ with ~1/8 of the 4-bin slope's
+// noise variance (σ 0.5 °C on seed000-4, offline: τ2 122 s for 176 from the 4-bin slope, 195 s
+// filtered). A cold start only (a hot one is not at rest). Ranges over a tune of at most 4 × the
+// configured limit (< 8,000 bins): ∫u ≤ 2^21 (Q8 duty × bins), ∫y ≤ 2^26 (°C × 16 × bins; rise
+// < 2^9 °C), each filter state 16 × that: < 2^31.
 __attribute__((noinline)) void Autotune::fit_bin() {
   LagFit& f = near(fit_);
   if (hot_start_ || phase_ < Phase::kProbe || phase_ > Phase::kRelay) return;
   const int32_t rise = y_bin_q8_ - ambient_q8_;
   f.iu_q8 += last_bin_duty_q8_;
-  f.iy_q8 += rise;
-  // Samples only where the fit can be used (an untrusted probe model: fit_solve's condition).
-  if (!untrusted_ || phase_ < Phase::kApproach || f.stage != 0 || rise < 30 * kQ8 || f.samples == 0xFFFF) return;
-  f.x_q8[0] = f.iu_q8;
-  f.x_q8[1] = rise;
-  f.x_q8[2] = slope4_q8();
-  f.x_q8[3] = f.iy_q8;
+  f.iy_q4 += div2n(rise, 4);
+  f.su += f.iu_q8 - div2n(f.su, 4);
+  f.siy += f.iy_q4 - div2n(f.siy, 4);
+  const int32_t dy_q16 = 16 * rise - f.sy;  // the filtered y's change this bin, °C × 2^16
+  f.sy += div2n(dy_q16, 4);
+  // Samples only where the fit can be used (fit_solve's condition).
+  if (!long_response() || phase_ < Phase::kApproach || f.stage != 0 || rise < 30 * kQ8 || f.samples == 0xFFFF) return;
+  f.x[0] = f.su;
+  f.x[1] = f.sy;
+  f.x[2] = dy_q16;
+  f.x[3] = f.siy;
   f.stage = 1;
 }
 
 // One piece of the latched sample's products (control/lag_fit.h), on a step with no other piece.
 uint8_t Autotune::fit_stage(uint8_t stage) {
   LagFit& f = near(fit_);
-  const uint8_t next = lag_fit_accumulate(store_.fit, f.x_q8, stage);
+  const uint8_t next = lag_fit_accumulate(store_.fit, f.x, stage);
   if (next == 0) ++f.samples;
   return next;
 }
@@ -448,7 +464,7 @@ uint8_t Autotune::fit_stage(uint8_t stage) {
 // One piece of the fit's solution (control/lag_fit.h): x_q8 becomes K, τ1, τ2.
 uint8_t Autotune::fit_solve(uint8_t stage) {
   LagFit& f = near(fit_);
-  return lag_fit_solve(store_.fit, static_cast<uint16_t>(kTicksPerBin * period_ms_), f.x_q8, stage);
+  return lag_fit_solve(store_.fit, static_cast<uint16_t>(kTicksPerBin * period_ms_), f.x, stage);
 }
 
 // Stages 1..9 belong to the phase; 20..22 are the probe → approach hand-over in any phase.
@@ -769,7 +785,7 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
     if (horizon_ticks_ < kTicksPerBin) horizon_ticks_ = kTicksPerBin;
     const uint32_t hb = (static_cast<uint32_t>(horizon_ticks_) + kTicksPerBin - 1) / kTicksPerBin + 1;
     horizon_bins_ = static_cast<uint8_t>(hb > kRingBins - 2 ? kRingBins - 2 : hb);
-    if (hb > kRingBins - 2) untrusted_ = true;  // the response outlasts the model's history
+    if (long_response()) untrusted_ = true;  // the response outlasts the model's history
     // A probe that needed a longer pulse (nothing in a minute after the first) is a slow or weak
     // hotend whose peak is small against the noise: at σ 0.5 a noise dip passed for seed000-4's
     // peak 22 s after the retry's cut (against ~250 s), and its predictor heated to S + 24 °C.
@@ -1433,22 +1449,22 @@ __attribute__((noinline)) int32_t Autotune::lag_sigma_q6(int32_t k_q8) const {
 // lag fit's Σ and K with the fan (step);
 // 10 for F, the averages, the probe's C and the result.
 bool Autotune::compute_chunk() {
-  // First the fit (an unsure cold tune with enough samples): its sum's last sample, its solution,
-  // then the storage it shares with the compute is cleared.
+  // First the fit (a long-response cold tune with enough samples): its last sample, its
+  // solution, then the storage it shares with the compute is cleared. Any other tune goes on to
+  // the compute in the same step (its timing as without the fit).
   LagFit& f = near(fit_);
   if (f.stage != 0) {
     f.stage = fit_stage(f.stage);
     return false;
   }
   if (f.solve != 0xFF) {
-    if (untrusted_ && !hot_start_ && f.samples >= kMinFitSamples) {
+    if (long_response() && !hot_start_ && f.samples >= kMinFitSamples) {
       f.solve = fit_solve(static_cast<uint8_t>(f.solve + 1)) == 0 ? 0xFF : static_cast<uint8_t>(f.solve + 1);
-    } else {
-      f.x_q8[1] = 0;
-      f.solve = 0xFF;
+      if (f.solve == 0xFF) store_.c = Compute{};
+      return false;
     }
-    if (f.solve == 0xFF) store_.c = Compute{};
-    return false;
+    f.x[1] = 0;
+    f.solve = 0xFF;
   }
   Compute& v = near(store_.c);
   const int32_t rise_target = target_q8_ - ambient_q8_;
@@ -1767,10 +1783,10 @@ bool Autotune::compute_chunk() {
       // leaves out destabilises it: seed000-5 (τ 1,179/118 s, ~20 s of dead time) swung 2.6 °C
       // p-p, so it keeps the FOPDT law. seed000-4 (host rig, σ 0.1 °C): τ 542/177 s for the
       // plant's 521/176; after U1 0.91 × bound, 0.02 °C (the FOPDT law: 1.73 ×, 3.4 °C).
-      if (f.x_q8[2] > 0 && 2 * f.x_q8[2] <= f.x_q8[1] && f.x_q8[1] <= 5 * f.x_q8[2] && f.x_q8[1] <= kModelMaxTimeConstantQ8 &&
-          8 * abs32(f.x_q8[0] - v.k_q8) <= v.k_q8) {
-        m.time_constant_q8 = f.x_q8[1];
-        result_.second_lag_q8 = f.x_q8[2];
+      if (f.x[2] > 0 && 2 * f.x[2] <= f.x[1] && f.x[1] <= 5 * f.x[2] && f.x[1] <= kModelMaxTimeConstantQ8 &&
+          8 * abs32(f.x[0] - v.k_q8) <= v.k_q8) {
+        m.time_constant_q8 = f.x[1];
+        result_.second_lag_q8 = f.x[2];
       }
       return true;
   }

@@ -206,6 +206,7 @@ class Autotune {
   void end_cycle(uint16_t t_lo);
   uint8_t cycle_stage(uint8_t stage);
   bool compute_chunk();      // one piece of the final arithmetic; true when done
+  bool long_response() const;           // L̂ outlasts the model history (untrusted, fit used)
   void fit_bin();                        // bin_end: the fit's integrals and its next sample
   uint8_t fit_stage(uint8_t stage);      // one product of the latched sample into the sums
   uint8_t fit_solve(uint8_t stage);      // one piece of the fit's solution (compute, first)
@@ -425,14 +426,17 @@ class Autotune {
     int32_t sigma_q6;  // τ1 + τ2 from the heat-up's lag fit, bins × 64 (0: none)
     uint8_t tl_count;
   };
-  // Two-lag fit (control/lag_fit.h) for an untrusted probe model (seed000's higher-order
-  // hotends, whose probe outlasts the model history), cold starts only: samples from the
+  // Two-lag fit (control/lag_fit.h) where the probe's response outlasts the model history
+  // (long_response(): seed000's higher-order hotends), cold starts only: samples from the
   // approach's and the relay's bins more than 30 °C above ambient (the fan off). Its sums share
   // the compute's storage: they are solved first (fit_solve), then the compute's are cleared.
   struct LagFit {
     int32_t iu_q8;     // ∫u since the probe: Σ bin duty (256 = 100 %), duty × 256 × bins
-    int32_t iy_q8;     // ∫(y − ambient) since the probe, °C × 256 × bins
-    int32_t x_q8[4];   // the latched sample (∫u, rise, 4-bin slope, ∫y); solved: K, τ1, τ2 (s × 256)
+    int32_t iy_q4;     // ∫(y − ambient) since the probe, °C × 16 × bins
+    int32_t su, sy, siy;  // 16 × the filtered ∫u, y − ambient (Q8) and ∫y
+    // The latched sample in lag_fit_accumulate's scales (16 × the filtered ∫u, y and ∫y, the
+    // filtered y's change × 2^16); once solved, K, τ1, τ2 (Q8: °C, s, s).
+    int32_t x[4];
     uint16_t samples;
     uint8_t stage;     // next piece of the latched sample (fit_stage), 0: none pending
     uint8_t solve;     // last piece of fit_solve done, 0: not started, 0xFF: done (or skipped)

@@ -3,7 +3,7 @@
 
 namespace control {
 
-uint8_t lag_fit_accumulate(fixed_math::Scaled* m, const int32_t* x_q8, uint8_t stage) {
+uint8_t lag_fit_accumulate(fixed_math::Scaled* m, const int32_t* x, uint8_t stage) {
   using namespace fixed_math;
   const uint8_t k = static_cast<uint8_t>((stage - 1) >> 2);  // 0–8
   const uint8_t piece = static_cast<uint8_t>((stage - 1) & 3);
@@ -16,7 +16,8 @@ uint8_t lag_fit_accumulate(fixed_math::Scaled* m, const int32_t* x_q8, uint8_t s
       i = k > 4 ? 2 : (k > 2 ? 1 : 0);
       j = static_cast<uint8_t>(k - (i == 0 ? 0 : i + 1));
     }
-    m[9 + piece] = scaled(x_q8[piece == 0 ? i : j], -8);
+    const uint8_t c = piece == 0 ? i : j;
+    m[9 + piece] = scaled(x[c], c == 2 ? -16 : (c == 3 ? -8 : -12));
   } else if (piece == 2) {
     m[9] = mul(m[9], m[10]);
   } else {

@@ -18,10 +18,11 @@ namespace control {
 // r = (∫u, y, ẏ); m[9], m[10] temporaries. Zeroed (all-zero bytes) before the first sample.
 constexpr uint8_t kLagFitSums = 11;
 
-// One piece (stage 1..36) of adding the sample x_q8 = (∫u, y, ẏ, ∫y), each × 256 (any consistent
-// units: duty × bins, °C, °C per bin, °C × bins), to the sums. Returns the next stage, 0 when the
-// sample is in. x_q8 must not change until then.
-uint8_t lag_fit_accumulate(fixed_math::Scaled* m, const int32_t* x_q8, uint8_t stage);
+// One piece (stage 1..36) of adding the sample x = (∫u × 2^12, y × 2^12, ẏ × 2^16, ∫y × 2^8)
+// (any consistent units: duty × bins, °C, °C per bin, °C × bins; the same linear filter may be
+// applied to all four, as the tune does) to the sums. Returns the next stage, 0 when the sample
+// is in. x must not change until then.
+uint8_t lag_fit_accumulate(fixed_math::Scaled* m, const int32_t* x, uint8_t stage);
 
 // One piece (stage 1..42) of the solution; bin_ms: the samples' time unit in ms (≤ 65,535).
 // Returns the next stage, 0 when done: x_q8 then holds K × 256 (x_q8[0]), τ1 and τ2 in s × 256

@@ -431,13 +431,15 @@ bool Autotune::long_response() const {
 // the approach and the relay once the last one is done. Filtering every term alike keeps the
 // fit's equation exact, and the filtered y's change per bin is ẏ with ~1/8 of the 4-bin slope's
 // noise variance (σ 0.5 °C on seed000-4, offline: τ2 122 s for 176 from the 4-bin slope, 195 s
-// filtered). A cold start only (a hot one is not at rest). Ranges over a tune of at most 4 × the
-// configured limit (< 8,000 bins): ∫u ≤ 2^21 (Q8 duty × bins), ∫y ≤ 2^26 (°C × 16 × bins; rise
-// < 2^9 °C), each filter state 16 × that: < 2^31.
+// filtered). A cold start only (a hot one is not at rest). Ranges over at most kFitMaxTicks
+// (8,000 bins; the fit is dropped past them): ∫u ≤ 2^21 (Q8 duty × bins), ∫y ≤ 2^26 (°C × 16 ×
+// bins; rise < 2^9 °C), each filter state 16 × that: < 2^31.
 __attribute__((noinline)) void Autotune::fit_bin() {
   LagFit& f = near(fit_);
-  if (hot_start_ || phase_ < Phase::kProbe || phase_ > Phase::kRelay) return;
-  const int32_t rise = y_bin_q8_ - ambient_q8_;
+  if (hot_start_ || phase_ < Phase::kProbe || phase_ > Phase::kRelay || tick_ > kFitMaxTicks) return;
+  // From the probe's baseline: a cold hotend at rest a little off the ambient (given, or within
+  // 15 °C) would otherwise add a ramp to ∫y that two lags do not have.
+  const int32_t rise = y_bin_q8_ - ambient_q8_ - near(probe_).base_rise_q8;
   f.iu_q8 += last_bin_duty_q8_;
   f.iy_q4 += div2n(rise, 4);
   f.su += f.iu_q8 - div2n(f.su, 4);
@@ -1447,7 +1449,8 @@ __attribute__((noinline)) int32_t Autotune::lag_sigma_q6(int32_t k_q8) const {
 // The final arithmetic, one piece per step (at most one 32-bit division or two logarithms):
 // 0–5 K (0–2 the drift); 15 per stored cycle (the noise lift, then T, L from the relay); 6 for the
 // lag fit's Σ and K with the fan (step);
-// 10 for F, the averages, the probe's C and the result.
+// 10 for F, the averages, the probe's C and the result. Before them, on a long-response cold
+// tune, the two-lag fit: up to 35 pieces of its last sample, then 42 of its solution.
 bool Autotune::compute_chunk() {
   // First the fit (a long-response cold tune with enough samples): its last sample, its
   // solution, then the storage it shares with the compute is cleared. Any other tune goes on to
@@ -1458,11 +1461,13 @@ bool Autotune::compute_chunk() {
     return false;
   }
   if (f.solve != 0xFF) {
-    if (long_response() && !hot_start_ && f.samples >= kMinFitSamples) {
+    if (long_response() && !hot_start_ && f.samples >= kMinFitSamples && tick_ <= kFitMaxTicks) {
       f.solve = fit_solve(static_cast<uint8_t>(f.solve + 1)) == 0 ? 0xFF : static_cast<uint8_t>(f.solve + 1);
       if (f.solve == 0xFF) store_.c = Compute{};
       return false;
     }
+    // Sums begun but too few samples: the compute's storage still holds them.
+    if (f.samples != 0) store_.c = Compute{};
     f.x[1] = 0;
     f.solve = 0xFF;
   }
@@ -1778,13 +1783,15 @@ bool Autotune::compute_chunk() {
       result_.unsure = untrusted_;
       result_.noise_q8 = noise_n_ >= 16 ? noise_q8_ : AutotuneResult::kNoiseUnmeasured;
       // The fit's two lags where they are a pair the two-lag law can use and its K agrees with
-      // the relay's within 1/8 (a record two lags do not describe fits K off). τ1/5 ≤ τ2 ≤ τ1/2:
-      // the law speeds the slow lag up by τ1/(0.6·τ2), and beyond ~8× the dead time the fit
-      // leaves out destabilises it: seed000-5 (τ 1,179/118 s, ~20 s of dead time) swung 2.6 °C
-      // p-p, so it keeps the FOPDT law. seed000-4 (host rig, σ 0.1 °C): τ 542/177 s for the
-      // plant's 521/176; after U1 0.91 × bound, 0.02 °C (the FOPDT law: 1.73 ×, 3.4 °C).
-      if (f.x[2] > 0 && 2 * f.x[2] <= f.x[1] && f.x[1] <= 5 * f.x[2] && f.x[1] <= kModelMaxTimeConstantQ8 &&
-          8 * abs32(f.x[0] - v.k_q8) <= v.k_q8) {
+      // the relay's within 1/8 (a record two lags do not describe fits K off). τ1/5 ≤ τ2 < τ1/2
+      // (at τ1 = 2·τ2 the design leaves the two-lag law), τ2 within M307's D: the law speeds the
+      // slow lag up by τ1/(0.6·τ2), and beyond ~8× the dead time the fit leaves out destabilises
+      // it: seed000-5 (τ 1,164–1,169/121–123 s, ~20 s of dead time) swung 2.6 °C p-p, so it keeps
+      // the FOPDT law. seed000-4 (host rig, σ 0.02 °C): τ 520–527/194–196 s for the plant's
+      // 521/176; after U1 0.97–0.98 × bound, ≤ 0.02 °C (the FOPDT law: 1.73 ×, 3.4 °C).
+      // (x[0] = K may be anything: compared without a product that could overflow.)
+      if (f.x[2] > 0 && 2 * f.x[2] < f.x[1] && f.x[1] <= 5 * f.x[2] && f.x[1] <= kModelMaxTimeConstantQ8 &&
+          f.x[2] <= kModelMaxDeadTimeQ8 && f.x[0] > 0 && f.x[0] < 2 * v.k_q8 && abs32(f.x[0] - v.k_q8) <= v.k_q8 / 8) {
         m.time_constant_q8 = f.x[1];
         result_.second_lag_q8 = f.x[2];
       }

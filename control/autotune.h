@@ -128,6 +128,9 @@ class Autotune {
   static constexpr uint16_t kNoisyQ8 = 76;
   // Samples the two-lag fit needs (one per ~5 bins at most): seed000's tunes give ~400.
   static constexpr uint16_t kMinFitSamples = 100;
+  // The fit's integrals stay within int32 for 8,000 bins (8,192 s at 128 ms; seed000's tunes
+  // take ~2,700 s); past them it is dropped.
+  static constexpr uint32_t kFitMaxTicks = 8000UL * kTicksPerBin;
 
   constexpr Autotune() = default;
 

@@ -85,7 +85,7 @@ uint8_t lag_fit_solve(fixed_math::Scaled* m, uint16_t bin_ms, int32_t* x_q8, uin
     case 38: m[10] = scaled(bin_ms); break;
     case 39: fit_op(m, kFitMul, 4, 4, 10); break;
     case 40: fit_op(m, kFitMul, 9, 9, 10); break;
-    case 41: x_q8[1] = round_scaled(m[4], 8) / 1000; break;
+    case 41: x_q8[1] = round_scaled(m[4], 8) / 1000; break;  // (truncated: < 1/256 s)
     case 42: x_q8[2] = round_scaled(m[9], 8) / 1000; return 0;
     default:
       // 19–34: Newton, r ← (r + d/r)/2.

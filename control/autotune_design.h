@@ -33,7 +33,17 @@ struct TunedDesign {
   // at 0.95–1.11 × (paced: 1.04–1.29 ×). Not without a lag seen (hotend40w-delay5: a transport
   // delay, which two lags without dead time oscillate on).
   bool two_lags;
+  // The two lags the two-state law is designed on (meaningful where two_lags): M307's C and D
+  // after a thermistor lag, the fit's τ1 and τ2 after an unsure tune (M307 then holds their
+  // two-point FOPDT, two_lag_fopdt below). s × 256.
+  int32_t lag1_q8, lag2_q8;
 };
+
+// The two-point FOPDT (28.3 % and 63.2 % of the step, Smith's method: the fit hotend-sim gives
+// the bank's step responses) of two lags τ1 > τ2 with 0.2 ≤ τ2/τ1 ≤ 0.5 (the fit's acceptance,
+// AutotuneResult::second_lag_q8), all s × 256: C/τ1 and D/τ2 as quadratics in r = τ2/τ1, least
+// squares over that range, within 0.17 % / 0.06 % of the exact fit. τ1 ≤ 3600 s.
+void two_lag_fopdt(int32_t lag1_q8, int32_t lag2_q8, int32_t* c_q8, int32_t* d_q8);
 
 // The shortest dead time the PID rule accepts (s × 256): below it the SIMC gain would grow
 // past anything a 128 ms loop with a lagging thermistor can use.
@@ -82,7 +92,10 @@ inline bool tune_bounds_tightly(const AutotuneResult& tune) {
 
 // Whether a heat-up may follow the tuned model (fuzzy-PID with M310 F0 does): not after a hot
 // start or an unsure tune, whose C may be read long (fopdt-fast after M109 S200: 39 s for 30 s;
-// seed000-4: 1.7 ×), so that full power would stay on too long.
-inline bool tune_heat_up_trusted(const AutotuneResult& tune) { return !tune.hot_start && !tune.unsure; }
+// seed000-4: 1.7 ×), so that full power would stay on too long. An unsure tune whose record fit
+// two lags has M307 from them (design_from_tune), not that long C.
+inline bool tune_heat_up_trusted(const AutotuneResult& tune) {
+  return !tune.hot_start && (!tune.unsure || tune.second_lag_q8 > 0);
+}
 
 }  // namespace control

@@ -77,15 +77,23 @@ __attribute__((noinline)) void write_design(gcode::Output& out, const control::A
   out.end_line();
 }
 
-// The controller M303 picks: `rest` completes "M310 S1 (state feedback" (its three variants
-// share that text) or, without state feedback, is the whole M310 S0 text.
-void write_choice(gcode::Output& out, bool state_feedback, const gcode::FlashText* rest) {
+// The controller M303 picks: `rest` completes "M310 S1 (state feedback" (its variants share
+// that text) or, without state feedback, is the whole M310 S0 text. The two-lag law names its
+// lags exactly (hotend-sim's check of the board's M311 designs from them and M307's A and F).
+void write_choice(gcode::Output& out, bool state_feedback, const gcode::FlashText* rest, const control::TunedDesign& d) {
   if (state_feedback) out.print(GCODE_TEXT("M310 S1 (state feedback"));
+  if (state_feedback && d.two_lags) {
+    out.print(GCODE_TEXT(", two lags "));
+    out.write_exact(d.lag1_q8, 8);
+    out.print(GCODE_TEXT(" s and "));
+    out.write_exact(d.lag2_q8, 8);
+    out.print(GCODE_TEXT(" s"));
+  }
   out.print(rest);
 }
 
 // The board's state-feedback design in one line (nullptr: it failed); for the two-lag law its
-// lags: the applied M307's C and D, which that law reads as two lags, not a lag and a dead time.
+// lags (the applied M307's C and D, or after an unsure tune's fit τ1 and τ2).
 __attribute__((noinline)) void write_sf_summary(gcode::Output& out, const control::StateFeedbackConstants* sf,
                                                 const control::TunedDesign& d) {
   if (sf == nullptr) {
@@ -97,9 +105,9 @@ __attribute__((noinline)) void write_sf_summary(gcode::Output& out, const contro
   out.print(GCODE_TEXT("state feedback designed: "));
   if (d.two_lags) {
     out.print(GCODE_TEXT("two lags "));
-    out.write_q8(d.model.time_constant_q8);
+    out.write_q8(d.lag1_q8);
     out.print(GCODE_TEXT(" s and "));
-    out.write_q8(d.model.dead_time_q8);
+    out.write_q8(d.lag2_q8);
     out.print(GCODE_TEXT(" s (no dead time), "));
   }
   out.print(GCODE_TEXT("law every "));
@@ -249,16 +257,14 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   const bool sf_ok = control::design_tuned_state_feedback(&d, kControlPeriodMs, &sf);
   write_sf_summary(out, sf_ok ? &sf : nullptr, d);
   const bool use_sf = sf_ok && !control::dead_time_leads(r, d);
-  // "paced": designed no faster than D; "two lags": from C and D as two lags (hotend-sim's
-  // check of the board's M311 reads both).
-  const gcode::FlashText* choice = !use_sf      ? GCODE_TEXT("M310 S0 F1 (PID following the model's heat-up), ")
-                                   : d.two_lags  ? GCODE_TEXT(", two lags C and D), ")
-                                   : d.lag_paced ? GCODE_TEXT(", paced by D), ")
-                                                 : GCODE_TEXT("), ");
+  // "paced": designed no faster than D (hotend-sim's check of the board's M311 reads it).
+  const gcode::FlashText* choice = !use_sf                    ? GCODE_TEXT("M310 S0 F1 (PID following the model's heat-up), ")
+                                   : d.lag_paced && !d.two_lags ? GCODE_TEXT(", paced by D), ")
+                                                                : GCODE_TEXT("), ");
   if (!apply_) {
     out.print(echo_autotune_text());
     out.print(GCODE_TEXT("not applied (U0); U1 would set the M301 above, "));
-    write_choice(out, use_sf, choice);
+    write_choice(out, use_sf, choice, d);
     write_m307(out, d.model);
     return;
   }
@@ -276,7 +282,7 @@ void AutotuneJob::write_result(gcode::Output& out, const HandOver& now) {
   bank_.end_autotune();  // built from `next` (the lines below let a due control step run first)
   out.print(echo_autotune_text());
   out.print(GCODE_TEXT("applied (U1): "));
-  write_choice(out, use_sf, choice);
+  write_choice(out, use_sf, choice, d);
   write_m307(out, d.model);  // the design's dead time: see control/autotune_design.h
 }
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -258,8 +259,15 @@ TEST(AutotuneCommand, ASmallThermistorLagGetsTheTwoLagStateFeedback) {
   TuneRig rig(design::two_node(p80));
   rig.send("M303 E0 S210 C3 U1\n");
   const std::string text = rig.run_tune();
-  EXPECT_TRUE(has(text, "echo:Autotune applied (U1): M310 S1 (state feedback, two lags C and D), M307 A")) << text;
   const firmware::Settings& s = rig.machine.bank.settings();
+  // The applied line names the lags exactly: here M307's C and D.
+  const std::string applied = "echo:Autotune applied (U1): M310 S1 (state feedback, two lags ";
+  const std::size_t at = text.find(applied);
+  ASSERT_NE(at, std::string::npos) << text;
+  double lag1 = 0, lag2 = 0;
+  ASSERT_EQ(std::sscanf(text.c_str() + at + applied.size(), "%lf s and %lf s), M307 A", &lag1, &lag2), 2) << text;
+  EXPECT_EQ(std::lround(lag1 * 256), s.model.time_constant_q8);
+  EXPECT_EQ(std::lround(lag2 * 256), s.model.dead_time_q8);
   control::StateFeedbackConstants two_lags;
   ASSERT_TRUE(control::design_state_feedback_two_lags(s.model, 128, &two_lags));
   EXPECT_EQ(two_lags.n, 2);

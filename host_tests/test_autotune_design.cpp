@@ -263,10 +263,50 @@ TEST(AutotuneDesign, ClosedLoopMatchesTheHostDesign) {
 
 namespace {
 
+// The two-point FOPDT of two lags (Smith: t28 and t63 of the unit step, C = 1.5·(t63 − t28),
+// D = t63 − C), in double by bisection.
+void two_point_fopdt(double t1, double t2, double* c, double* d) {
+  const auto y = [&](double t) { return 1 - (t1 * std::exp(-t / t1) - t2 * std::exp(-t / t2)) / (t1 - t2); };
+  const auto at = [&](double level) {
+    double lo = 0, hi = 20 * t1;
+    for (int i = 0; i < 200; ++i) {
+      const double mid = (lo + hi) / 2;
+      (y(mid) < level ? lo : hi) = mid;
+    }
+    return lo;
+  };
+  const double t28 = at(0.283), t63 = at(0.632);
+  *c = 1.5 * (t63 - t28);
+  *d = t63 - *c;
+}
+
+// control::two_lag_fopdt (quadratics in τ2/τ1) against the double fit, over the fit's accepted
+// ratios 0.2–0.5 and lags from 20 s to 3,600 s: within 0.25 % (the quadratics' own 0.17 % / 0.06 %
+// plus the Q8 and Q14 rounding).
+TEST(AutotuneDesign, TwoLagFopdtMatchesTheDoubleTwoPointFit) {
+  double worst_c = 0, worst_d = 0;
+  for (double t1 : {20.0, 150.0, 521.0, 1200.0, 3600.0}) {
+    for (int i = 0; i <= 30; ++i) {
+      const double ratio = 0.2 + 0.3 * i / 30 * 0.9999;
+      const int32_t t1_q8 = static_cast<int32_t>(std::lround(t1 * 256));
+      const int32_t t2_q8 = static_cast<int32_t>(std::lround(ratio * t1 * 256));
+      double c = 0, d = 0;
+      two_point_fopdt(t1_q8 / 256.0, t2_q8 / 256.0, &c, &d);
+      int32_t c_q8 = 0, d_q8 = 0;
+      control::two_lag_fopdt(t1_q8, t2_q8, &c_q8, &d_q8);
+      worst_c = std::fmax(worst_c, std::fabs(c_q8 / 256.0 - c) / c);
+      worst_d = std::fmax(worst_d, std::fabs(d_q8 / 256.0 - d) / d);
+    }
+  }
+  std::printf("two-lag FOPDT, board vs double: C within %.3f %%, D within %.3f %%\n", 100 * worst_c, 100 * worst_d);
+  EXPECT_LT(worst_c, 0.0025);
+  EXPECT_LT(worst_d, 0.0025);
+}
+
 // An unsure tune whose record fits two lags (seed000-4 in simavr: C 532.8 = τ1, τ2 188.7, relay
-// D 67.2, Tu 283): the two-lag law on τ1, τ2 with no unsure margin, and U1 keeps state feedback
-// (its relay D alone would hand it to the PID: 8·67 ≥ 533). Without the fit, the same tune keeps
-// the one-state design with the unsure margin.
+// D 67.2, Tu 283): the two-lag law on τ1, τ2 with no unsure margin, M307 and the PID on their
+// two-point FOPDT, and U1 keeps state feedback (its relay D alone would hand it to the PID:
+// 8·67 ≥ 533). Without the fit, the same tune keeps the one-state design with the unsure margin.
 TEST(AutotuneDesign, AnUnsureTunesSecondLagGivesTheTwoLagLaw) {
   control::AutotuneResult r = tune_of(456.16, 532.793, 67.156, 282.75, 47.754);
   r.unsure = true;
@@ -274,8 +314,18 @@ TEST(AutotuneDesign, AnUnsureTunesSecondLagGivesTheTwoLagLaw) {
   control::TunedDesign d;
   ASSERT_TRUE(control::design_from_tune(r, 128, &d));
   EXPECT_TRUE(d.two_lags);
-  EXPECT_EQ(d.model.dead_time_q8, r.second_lag_q8);
-  EXPECT_EQ(d.model.time_constant_q8, r.model.time_constant_q8);
+  EXPECT_EQ(d.lag1_q8, r.model.time_constant_q8);
+  EXPECT_EQ(d.lag2_q8, r.second_lag_q8);
+  double c = 0, l = 0;
+  two_point_fopdt(532.793, 188.70, &c, &l);
+  EXPECT_NEAR(d.model.time_constant_q8 / 256.0, c, 0.0025 * c);
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, l, 0.0025 * l);
+  EXPECT_EQ(d.model.rise_q8, r.model.rise_q8);
+  // SIMC PI on that FOPDT (τc = 2L): Kp = C/(K·3L), Ti = min(C, 12·L), in M301 units.
+  const double gain = 456.16 / 255;
+  EXPECT_NEAR(d.pid.kp_q16 / 65536.0, c / (gain * 3 * l), 0.01 * c / (gain * 3 * l));
+  EXPECT_NEAR(d.pid.ki_q16 / 65536.0, c / (gain * 3 * l) / std::fmin(c, 12 * l), 0.01 * c / (gain * 3 * l) / c);
+  EXPECT_TRUE(control::tune_heat_up_trusted(r));  // fuzzy-PID F0 may follow that model's heat-up
   EXPECT_FALSE(control::dead_time_leads(r, d));
   control::StateFeedbackConstants k;
   ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
@@ -285,6 +335,7 @@ TEST(AutotuneDesign, AnUnsureTunesSecondLagGivesTheTwoLagLaw) {
   EXPECT_FALSE(d.two_lags);
   EXPECT_GT(d.model.dead_time_q8, r.model.dead_time_q8);  // the unsure margin
   EXPECT_TRUE(control::dead_time_leads(r, d));
+  EXPECT_FALSE(control::tune_heat_up_trusted(r));
 }
 
 }  // namespace

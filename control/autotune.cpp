@@ -1782,17 +1782,16 @@ bool Autotune::compute_chunk() {
       result_.hot_start = hot_start_;
       result_.unsure = untrusted_;
       result_.noise_q8 = noise_n_ >= 16 ? noise_q8_ : AutotuneResult::kNoiseUnmeasured;
-      // The fit's two lags where they are a pair the two-lag law can use and its K agrees with
-      // the relay's within 1/8 (a record two lags do not describe fits K off). τ1/5 ≤ τ2 < τ1/2
-      // (at τ1 = 2·τ2 the design leaves the two-lag law), τ2 within M307's D: the law speeds the
-      // slow lag up by τ1/(0.6·τ2), and beyond ~8× the dead time the fit leaves out destabilises
-      // it: seed000-5 (τ 1,164–1,169/121–123 s, ~20 s of dead time) swung 2.6 °C p-p, so it keeps
-      // the FOPDT law. seed000-4 (host rig, σ 0.02 °C): τ 520–527/194–196 s for the plant's
-      // 521/176; after U1 0.97–0.98 × bound, ≤ 0.02 °C (the FOPDT law: 1.73 ×, 3.4 °C).
+      // The fit's two lags where its K agrees with the relay's within 1/8 (a record two lags do
+      // not describe fits K off) and τ1/10 ≤ τ2 < τ1/2 (the range design_from_tune's two-point
+      // FOPDT covers; at τ1 = 2·τ2 the design leaves the two-lag law), τ2 within M307's D.
+      // seed000-4 (host rig, σ 0.02 °C): τ 520–527/194–196 s for the plant's 521/176; seed000-5
+      // τ 1,164–1,181/121–123 s for 1,176/102 (design_from_tune keeps its state feedback off the
+      // two-lag law: τ2 < τ1/5).
       // (x[0] = K may be anything: compared without a product that could overflow.)
-      if (f.x[2] > 0 && 2 * f.x[2] < f.x[1] && f.x[1] <= 5 * f.x[2] && f.x[1] <= kModelMaxTimeConstantQ8 &&
+      if (f.x[2] > 0 && 2 * f.x[2] < f.x[1] && f.x[1] <= 10 * f.x[2] && f.x[1] <= kModelMaxTimeConstantQ8 &&
           f.x[2] <= kModelMaxDeadTimeQ8 && f.x[0] > 0 && f.x[0] < 2 * v.k_q8 && abs32(f.x[0] - v.k_q8) <= v.k_q8 / 8) {
-        m.time_constant_q8 = f.x[1];
+        result_.first_lag_q8 = f.x[1];
         result_.second_lag_q8 = f.x[2];
       }
       return true;

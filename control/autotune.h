@@ -107,9 +107,9 @@ struct AutotuneResult {
                             // the relay's FOPDT folded into too short a D (hotend40w-delay5)
   uint16_t noise_q8;        // reading noise σ measured before the probe's response (°C × 256),
                             // kNoiseUnmeasured when that came within 16 readings
-  // An unsure cold tune whose whole record fits two lags (Autotune::LagFit): the second lag τ2
-  // (s × 256; model C is then the first, τ1), 0 otherwise.
-  int32_t second_lag_q8;
+  // An unsure cold tune whose whole record fits two lags (Autotune::LagFit): τ1 and τ2 (s × 256;
+  // model stays the relay's FOPDT), 0 otherwise.
+  int32_t first_lag_q8, second_lag_q8;
   static constexpr uint16_t kNoiseUnmeasured = 0xFFFF;
 };
 
@@ -454,7 +454,7 @@ class Autotune {
 
   AutotuneCycle cycle_{0, 0, 0, 0};
   AutotuneUltimate ultimate_{0, 0};
-  AutotuneResult result_{{0, 0, 0, 0}, 0, {0, 0}, 0, false, false, false, 0, 0};
+  AutotuneResult result_{{0, 0, 0, 0}, 0, {0, 0}, 0, false, false, false, 0, 0, 0};
 };
 
 }  // namespace control

@@ -11,17 +11,32 @@ bool tu_floors_dead_time(int32_t dead_time_q8, int32_t time_constant_q8, int32_t
   return quarter_q8 > dead_time_q8 && 8 * dead_time_q8 < time_constant_q8 && 4 * quarter_q8 <= 5 * dead_time_q8;
 }
 
+namespace {
+
+// c0 + c1·r + c2·r² + c3·r³ (Q14 coefficients, 0 ≤ r_q16 < 2^15) by Horner. For the coefficients
+// below every partial sum stays under 2^16 in magnitude, so v·r < 2^31 (>> of a negative product:
+// GCC's arithmetic shift, rounding down).
+int32_t cubic_q14(const int32_t* c, int32_t r_q16) {
+  int32_t v = c[3];
+  for (int8_t i = 2; i >= 0; --i) v = c[i] + ((v * r_q16) >> 16);
+  return v;
+}
+
+// Least squares in double over 0.1 ≤ r ≤ 0.5 against the exact two-point fit: C/τ1 within 0.08 %,
+// D/τ2 within 0.7 % (host test: AutotuneDesign.TwoLagFopdtMatchesTheDoubleTwoPointFit).
+constexpr int32_t kFopdtCOverLag1Q14[4] = {16473, -3880, 37054, -28197};
+constexpr int32_t kFopdtDOverLag2Q14[4] = {17921, -9325, -26878, 38975};
+
+}  // namespace
+
 void two_lag_fopdt(int32_t lag1_q8, int32_t lag2_q8, int32_t* c_q8, int32_t* d_q8) {
-  // r < 2^15 in Q16 (τ2 < τ1). Coefficients Q14 (fitted in double, docs/autotune.md): every
-  // product below < 2^31 (22,671·2^15; r² < 2^30; 13,541·2^14), the sums within ±2^16.
   const int32_t r_q16 = static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(lag2_q8), 65536UL,
                                                                  static_cast<uint32_t>(lag1_q8)));
-  const int32_t r2_q16 = static_cast<int32_t>((static_cast<uint32_t>(r_q16) * static_cast<uint32_t>(r_q16)) >> 16);
-  const int32_t c_ratio_q14 = 15404 + ((6090L * r_q16 + 7430L * r2_q16) >> 16);
-  const int32_t d_ratio_q14 = 19311 + ((-22671L * r_q16 + 13541L * r2_q16) >> 16);
   // τ ≤ 3600 s (Q8 < 2^20) times ratios < 2^15: the 64-bit product's quotient < 2^21.
-  *c_q8 = static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(lag1_q8), static_cast<uint32_t>(c_ratio_q14), 16384UL));
-  *d_q8 = static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(lag2_q8), static_cast<uint32_t>(d_ratio_q14), 16384UL));
+  *c_q8 = static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(lag1_q8),
+                                                  static_cast<uint32_t>(cubic_q14(kFopdtCOverLag1Q14, r_q16)), 16384UL));
+  *d_q8 = static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(lag2_q8),
+                                                  static_cast<uint32_t>(cubic_q14(kFopdtDOverLag2Q14, r_q16)), 16384UL));
 }
 
 // noinline: LTO inlined it into more than one caller (124 B of AVR flash as a call).
@@ -30,21 +45,9 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   if (!hotend_model_valid(tune.model)) return false;
   // hotend_model_valid: 10 ≤ A ≤ 2000 °C, 1 ≤ C ≤ 3600 s (Q8) — the bounds below rely on it.
   const uint32_t k_q8 = static_cast<uint32_t>(tune.model.rise_q8);
+  const uint32_t t_q8 = static_cast<uint32_t>(tune.model.time_constant_q8);
   int32_t l_q8 = tune.model.dead_time_q8;
-  // An unsure tune whose record fits two lags (AutotuneResult::second_lag_q8; its C is τ1): the
-  // state feedback gets the two-lag law on τ1, τ2, and M307 (the PID rule, the model heat-up and
-  // feedforward) their two-point FOPDT. seed000-4 (host rig after U1, σ 0.02 °C, 4 noise seeds):
-  // the state feedback at 1.73 × bound and 3.4 °C of overshoot with the FOPDT law on C 988 s,
-  // D + margin 132 s; 0.97 × and 0.0 °C with τ 526/194 s. PID + model following on M307 C τ1,
-  // D τ2 2.07–2.20 × bound and −0.8 to −1.2 °C steady; on the two-point FOPDT (C 597–601 s,
-  // D 151–152 s) 1.03–1.13 ×, −0.26 to −0.35 °C (docs/autotune.md).
-  const bool fitted = tune.second_lag_q8 > 0;
-  if (fitted) {
-    two_lag_fopdt(tune.model.time_constant_q8, tune.second_lag_q8, &out->model.time_constant_q8, &l_q8);
-    if (out->model.time_constant_q8 > kModelMaxTimeConstantQ8) out->model.time_constant_q8 = kModelMaxTimeConstantQ8;
-  }
-  const uint32_t t_q8 = static_cast<uint32_t>(out->model.time_constant_q8);
-  if (!fitted && tu_floors_dead_time(l_q8, tune.model.time_constant_q8, tune.ultimate.tu_q8)) l_q8 = tune.ultimate.tu_q8 / 4;
+  if (tu_floors_dead_time(l_q8, tune.model.time_constant_q8, tune.ultimate.tu_q8)) l_q8 = tune.ultimate.tu_q8 / 4;
   // A cut probe that peaked late (a lag the relay folded into D; not a seed000 unsure model):
   // D ≥ 1.15·Tu/4. hotend40w-delay5 (host rig, 10 noise seeds at σ 0.1 °C): the relay's D
   // (6.1–7.8 s) settles in 1.36–1.63 × bound; ×1.15 of Tu/4 1.14–1.19 × on 9 (×1.0: 2 of 10,
@@ -64,7 +67,7 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   // two-point fit (4.18–4.24 s against 4.59), and hotend80w undershot out of ±1 °C with it.
   // L < 2^18, 5·lag < 2^20: mul_div_u32 keeps the 64-bit product's quotient.
   out->lag_paced = false;
-  if (tune.sensor_lag_q8 > 0 && l_q8 > 0 && !fitted) {
+  if (tune.sensor_lag_q8 > 0 && l_q8 > 0) {
     int32_t margin_q8 = static_cast<int32_t>(fixed::mul_div_u32(static_cast<uint32_t>(l_q8), 5UL * static_cast<uint32_t>(tune.sensor_lag_q8), 2UL * t_q8));
     if (margin_q8 < l_q8 / 8) margin_q8 = l_q8 / 8;
     l_q8 += margin_q8;
@@ -75,7 +78,7 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   // overshot 0.4–1.7 °C (hotend80w 1.39–1.68 °C, 1.25–1.29 × bound; host rig, 4 noise seeds)
   // and two lags 0.02–0.19 °C, 0.95–1.11 × (docs/autotune.md, "Two lags on every lag").
   // lag_paced then only matters if the board refuses the two-lag law.
-  out->two_lags = tune.sensor_lag_q8 > 0 || fitted;
+  out->two_lags = tune.sensor_lag_q8 > 0;
   // An unsure model (the probe's response outlasted the model history: seed000's higher-order
   // hotends) of no lag-type hotend: its D is short of the response's, and a D too short
   // overshoots; the more so the longer L is against C. Margin L·max(3/8, 7.5·L/C), at most L.
@@ -84,7 +87,7 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   // 3/8 gave 5.9–8.0 and ×1.5 / ×1.75 2.9–4.9 / 0 °C with 1.0–1.4 °C p-p
   // (docs/autotune.md, "Unsure models"). heavy-slow (a lag) was slower with it: not there.
   // L < 2^18 (Q8), so 15·L < 2^22 and the quotient L·15·L/(2·C) < 2^31 (C ≥ 1 s).
-  if (tune.unsure && tune.sensor_lag_q8 == 0 && !fitted) {
+  if (tune.unsure && tune.sensor_lag_q8 == 0) {
     int32_t margin_q8 = static_cast<int32_t>(
         fixed::mul_div_u32(static_cast<uint32_t>(l_q8), 15UL * static_cast<uint32_t>(l_q8), 2UL * t_q8));
     if (margin_q8 < 3 * l_q8 / 8) margin_q8 = 3 * l_q8 / 8;
@@ -94,40 +97,62 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   if (l_q8 < kMinDesignDeadTimeQ8) l_q8 = kMinDesignDeadTimeQ8;
   if (l_q8 > kModelMaxDeadTimeQ8) l_q8 = kModelMaxDeadTimeQ8;
   out->model.dead_time_q8 = l_q8;  // the feedforward's heat-up must respect the same delay
-  // The two lags: the fit's, or C and D after a thermistor lag, then with D < C/2 strictly (at
-  // 2·D = C dead_time_leads already hands U1 to the PID). The fit accepts τ2 < τ1/2 only.
-  if (fitted) {
-    out->lag1_q8 = tune.model.time_constant_q8;
-    out->lag2_q8 = tune.second_lag_q8;
-  } else {
-    out->lag1_q8 = out->model.time_constant_q8;
-    out->lag2_q8 = l_q8;
-    if (2 * l_q8 >= out->model.time_constant_q8) out->two_lags = false;  // l_q8 ≤ 600 s × 256: fits
+  // The state feedback's C and D: M307's, as two lags where a lag was seen and D < C/2 strictly
+  // (at 2·D = C dead_time_leads already hands U1 to the PID).
+  out->sf_c_q8 = tune.model.time_constant_q8;
+  out->sf_d_q8 = l_q8;
+  if (2 * l_q8 >= tune.model.time_constant_q8) out->two_lags = false;  // l_q8 ≤ 600 s × 256: fits
+  // An unsure tune whose record fits two lags (AutotuneResult::first_lag_q8, second_lag_q8;
+  // τ1/10 ≤ τ2 < τ1/2): M307 (the PID rule, the model heat-up and feedforward) becomes their
+  // two-point FOPDT, and where τ2 ≥ τ1/5 the state feedback the two-lag law on τ1, τ2. Host rig
+  // after U1 (σ 0.02 °C, 4 noise seeds), seed000-4 (τ 522–529 / 193–196 s): state feedback 0.97 ×
+  // bound and 0.0 °C on τ1, τ2 (the FOPDT law on C 988 s, D + margin 132 s: 1.73 ×, 3.4 °C);
+  // PID + model following on M307 C τ1, D τ2 2.07–2.20 × and −0.8 to −1.2 °C steady, on the
+  // two-point FOPDT (C 597–601 s, D 151–152 s) 1.03–1.13 ×, −0.26 to −0.35 °C. seed000-5
+  // (τ 1,164–1,181 / 121–123 s): the two-lag law swung 2.6 °C p-p (the ~20 s of dead time the fit
+  // leaves out against T_cl = 0.6·τ2), and the FOPDT law on the two-point FOPDT overshot 5.7 °C,
+  // on τ1 and the relay's D + margin 6.2–8.1 °C: its state feedback keeps the relay's C and
+  // D + margin above (docs/autotune.md).
+  if (tune.second_lag_q8 > 0) {
+    two_lag_fopdt(tune.first_lag_q8, tune.second_lag_q8, &out->model.time_constant_q8, &l_q8);
+    if (out->model.time_constant_q8 > kModelMaxTimeConstantQ8) out->model.time_constant_q8 = kModelMaxTimeConstantQ8;
+    if (l_q8 > kModelMaxDeadTimeQ8) l_q8 = kModelMaxDeadTimeQ8;
+    out->model.dead_time_q8 = l_q8;
+    if (5 * tune.second_lag_q8 >= tune.first_lag_q8) {
+      out->sf_c_q8 = tune.first_lag_q8;
+      out->sf_d_q8 = tune.second_lag_q8;
+      out->two_lags = true;
+    }
   }
   const uint32_t l = static_cast<uint32_t>(l_q8);
+  const uint32_t t_pid_q8 = static_cast<uint32_t>(out->model.time_constant_q8);
 
   // Kp = 255·T/(K·3L) in M301 units. ratio = 255·256·T/L ≤ 65,280·921,600/128 < 2^32 (T ≤ 3600 s,
   // L ≥ 0.5 s); kp_q16 = ratio·2^16/(3·K_q8): Kp·2^16 < 2^32 whenever Kp < 65,536 — far above
   // Pid's limit, and mul_div_u32 needs only the quotient to fit.
-  const uint32_t ratio = fixed::mul_div_u32(t_q8, 255UL * 256UL, l);
+  const uint32_t ratio = fixed::mul_div_u32(t_pid_q8, 255UL * 256UL, l);
   const uint32_t kp_q16 = fixed::mul_div_u32(ratio, 65536UL, 3UL * k_q8);
   if (kp_q16 > static_cast<uint32_t>(Pid::kMaxKpQ16)) return false;
   // Ti = min(T, 4·(2L + L)) = min(T, 12·L); Ki = Kp/Ti: kp_q16·256/ti_q8 ≤ Kp·2^16 fits too.
-  const uint32_t ti_q8 = t_q8 < 12UL * l ? t_q8 : 12UL * l;
+  const uint32_t ti_q8 = t_pid_q8 < 12UL * l ? t_pid_q8 : 12UL * l;
   const uint32_t ki_q16 = fixed::mul_div_u32(kp_q16, 256UL, ti_q8);
   out->pid = PidGains{static_cast<int32_t>(kp_q16), static_cast<int32_t>(ki_q16), 0};
   return Pid::valid(out->pid, period_ms);
 }
 
 bool design_tuned_state_feedback(TunedDesign* design, uint16_t period_ms, StateFeedbackConstants* out) {
+  HotendModel m = design->model;
+  m.time_constant_q8 = design->sf_c_q8;
+  m.dead_time_q8 = design->sf_d_q8;
   if (design->two_lags) {
-    HotendModel lags = design->model;
-    lags.time_constant_q8 = design->lag1_q8;
-    lags.dead_time_q8 = design->lag2_q8;
-    if (design_state_feedback_two_lags(lags, period_ms, out)) return true;
+    if (design_state_feedback_two_lags(m, period_ms, out)) return true;
+    // Refused: the FOPDT law on M307, and the design says so.
+    design->two_lags = false;
+    m = design->model;
+    design->sf_c_q8 = m.time_constant_q8;
+    design->sf_d_q8 = m.dead_time_q8;
   }
-  design->two_lags = false;
-  return design_state_feedback_fopdt(design->model, period_ms, out, design->lag_paced);
+  return design_state_feedback_fopdt(m, period_ms, out, design->lag_paced);
 }
 
 }  // namespace control

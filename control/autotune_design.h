@@ -33,16 +33,16 @@ struct TunedDesign {
   // at 0.95–1.11 × (paced: 1.04–1.29 ×). Not without a lag seen (hotend40w-delay5: a transport
   // delay, which two lags without dead time oscillate on).
   bool two_lags;
-  // The two lags the two-state law is designed on (meaningful where two_lags): M307's C and D
-  // after a thermistor lag, the fit's τ1 and τ2 after an unsure tune (M307 then holds their
-  // two-point FOPDT, two_lag_fopdt below). s × 256.
-  int32_t lag1_q8, lag2_q8;
+  // The C and D the state feedback is designed on (s × 256): two lags τ1, τ2 where two_lags.
+  // M307's C and D, except after an unsure tune's two-lag fit: there M307 holds the lags'
+  // two-point FOPDT, and these are τ1, τ2, or (τ2 < τ1/5) the relay's C and D with the margin.
+  int32_t sf_c_q8, sf_d_q8;
 };
 
 // The two-point FOPDT (28.3 % and 63.2 % of the step, Smith's method: the fit hotend-sim gives
-// the bank's step responses) of two lags τ1 > τ2 with 0.2 ≤ τ2/τ1 ≤ 0.5 (the fit's acceptance,
-// AutotuneResult::second_lag_q8), all s × 256: C/τ1 and D/τ2 as quadratics in r = τ2/τ1, least
-// squares over that range, within 0.17 % / 0.06 % of the exact fit. τ1 ≤ 3600 s.
+// the bank's step responses) of two lags τ1 > τ2 with 0.1 ≤ τ2/τ1 ≤ 0.5 (the fit's acceptance,
+// AutotuneResult::second_lag_q8), all s × 256: C/τ1 and D/τ2 as cubics in r = τ2/τ1, least
+// squares over that range, within 0.08 % / 0.7 % of the exact fit. τ1 ≤ 3600 s.
 void two_lag_fopdt(int32_t lag1_q8, int32_t lag2_q8, int32_t* c_q8, int32_t* d_q8);
 
 // The shortest dead time the PID rule accepts (s × 256): below it the SIMC gain would grow

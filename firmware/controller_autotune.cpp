@@ -52,11 +52,12 @@ __attribute__((noinline)) void write_design(gcode::Output& out, const control::A
                         : GCODE_TEXT("model (cold start: heat-up, relay"));
   out.print(r.model.fan_loss_pct_q8 != 0 ? GCODE_TEXT(", part fan): ") : GCODE_TEXT("): "));
   write_m307(out, r.model);
-  // An unsure tune's two-lag fit (control/lag_fit.h): its C is the first lag, and D above stays
-  // the relay's; the design uses the second as its D.
+  // An unsure tune's two-lag fit (control/lag_fit.h): the applied M307 is their two-point FOPDT.
   if (r.second_lag_q8 > 0) {
     out.print(echo_autotune_text());
-    out.print(GCODE_TEXT("two lags fitted to the whole record: C and a second lag of "));
+    out.print(GCODE_TEXT("two lags fitted to the whole record: "));
+    out.write_exact(r.first_lag_q8, 8);
+    out.print(GCODE_TEXT(" s and "));
     out.write_exact(r.second_lag_q8, 8);
     out.print(GCODE_TEXT(" s\n"));
   }
@@ -79,14 +80,16 @@ __attribute__((noinline)) void write_design(gcode::Output& out, const control::A
 
 // The controller M303 picks: `rest` completes "M310 S1 (state feedback" (its variants share
 // that text) or, without state feedback, is the whole M310 S0 text. The two-lag law names its
-// lags exactly (hotend-sim's check of the board's M311 designs from them and M307's A and F).
+// lags exactly, and so does a FOPDT law on other C and D than M307's (hotend-sim's check of the
+// board's M311 designs from them and M307's A and F).
 void write_choice(gcode::Output& out, bool state_feedback, const gcode::FlashText* rest, const control::TunedDesign& d) {
   if (state_feedback) out.print(GCODE_TEXT("M310 S1 (state feedback"));
-  if (state_feedback && d.two_lags) {
-    out.print(GCODE_TEXT(", two lags "));
-    out.write_exact(d.lag1_q8, 8);
-    out.print(GCODE_TEXT(" s and "));
-    out.write_exact(d.lag2_q8, 8);
+  // (A FOPDT law on other C and D than M307's: after an unsure tune's wide two-lag fit.)
+  if (state_feedback && (d.two_lags || d.sf_c_q8 != d.model.time_constant_q8 || d.sf_d_q8 != d.model.dead_time_q8)) {
+    out.print(d.two_lags ? GCODE_TEXT(", two lags ") : GCODE_TEXT(", FOPDT C "));
+    out.write_exact(d.sf_c_q8, 8);
+    out.print(d.two_lags ? GCODE_TEXT(" s and ") : GCODE_TEXT(" s D "));
+    out.write_exact(d.sf_d_q8, 8);
     out.print(GCODE_TEXT(" s"));
   }
   out.print(rest);
@@ -105,9 +108,9 @@ __attribute__((noinline)) void write_sf_summary(gcode::Output& out, const contro
   out.print(GCODE_TEXT("state feedback designed: "));
   if (d.two_lags) {
     out.print(GCODE_TEXT("two lags "));
-    out.write_q8(d.lag1_q8);
+    out.write_q8(d.sf_c_q8);
     out.print(GCODE_TEXT(" s and "));
-    out.write_q8(d.lag2_q8);
+    out.write_q8(d.sf_d_q8);
     out.print(GCODE_TEXT(" s (no dead time), "));
   }
   out.print(GCODE_TEXT("law every "));

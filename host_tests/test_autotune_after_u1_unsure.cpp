@@ -4,6 +4,7 @@
 // D 33–61 s instead of simavr's 66 and is not what HIL7 meets). Noise seeds 12345, 1, 2, 3.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include "host_tests/autotune_after_u1.h"
@@ -25,9 +26,9 @@ Seed000Run tune_and_heat(const char* name, unsigned long long seed) {
   for (const after_u1::Plant& p : after_u1::seed000_plants())
     if (p.name == name) out.figures = after_u1::after_u1(p, seed, kSimavrLikeNoiseC, &out.tune, &out.statefb);
   const after_u1::Figures& f = out.figures;
-  std::printf("%s seed %llu: C %.1f D %.1f second lag %.1f U1 %s os %.2f set %.2fx pp %.3f dip %.2f\n", name, seed,
+  std::printf("%s seed %llu: C %.1f D %.1f lags %.1f %.1f U1 %s os %.2f set %.2fx pp %.3f dip %.2f\n", name, seed,
               out.tune.model.time_constant_q8 / 256.0, out.tune.model.dead_time_q8 / 256.0,
-              out.tune.second_lag_q8 / 256.0,
+              out.tune.first_lag_q8 / 256.0, out.tune.second_lag_q8 / 256.0,
               out.statefb ? "statefb" : "pid+ff", f.overshoot_c, f.settling_ratio, f.steady_pp_c, f.dip_c);
   return out;
 }
@@ -42,7 +43,7 @@ TEST(AutotuneAfterU1Unsure, Seed000_4FitsTwoLagsAndMeetsTheTargets) {
     const Seed000Run r = tune_and_heat("seed000-4", seed);
     const after_u1::Figures& f = r.figures;
     EXPECT_TRUE(r.tune.unsure) << "seed " << seed;
-    EXPECT_NEAR(r.tune.model.time_constant_q8 / 256.0, 521, 52) << "seed " << seed;
+    EXPECT_NEAR(r.tune.first_lag_q8 / 256.0, 521, 52) << "seed " << seed;
     EXPECT_NEAR(r.tune.second_lag_q8 / 256.0, 176, 26) << "seed " << seed;
     EXPECT_TRUE(r.statefb) << "seed " << seed;
     EXPECT_TRUE(f.ok) << "seed " << seed;
@@ -53,20 +54,64 @@ TEST(AutotuneAfterU1Unsure, Seed000_4FitsTwoLagsAndMeetsTheTargets) {
   }
 }
 
-// seed000-5 (registered in HIL7) keeps the 3/8 margin (L/C ≈ 0.05): overshoot 0.00–0.73 °C,
-// p-p 0.31–0.47 °C, settling 1.83–1.91 × bound; HIL7's limits, and that settling, must hold.
-// Its record fits τ 1,179/118 s (plant 1,176/102), but the two-lag law on them swung 2.6 °C
-// p-p (the ~20 s of dead time the fit leaves out): the tune keeps the FOPDT model (τ1 > 5 τ2).
+// seed000-5 (registered in HIL7): its record fits τ 1,168–1,181 / 121–122 s (plant 1,176/102),
+// τ2 < τ1/5, so M307 becomes their two-point FOPDT but the state feedback keeps the one-state law
+// on the relay's C and D + the 3/8 margin (L/C ≈ 0.05): overshoot 0.00–0.73 °C, p-p
+// 0.31–0.47 °C, settling 1.83–1.91 × bound; HIL7's limits, and that settling, must hold.
 TEST(AutotuneAfterU1Unsure, Seed000_5StaysWithinHil7) {
   for (unsigned long long seed : kSeeds) {
     const Seed000Run r = tune_and_heat("seed000-5", seed);
     const after_u1::Figures& f = r.figures;
-    EXPECT_EQ(r.tune.second_lag_q8, 0) << "seed " << seed;
+    EXPECT_NEAR(r.tune.first_lag_q8 / 256.0, 1176, 118) << "seed " << seed;
+    EXPECT_NEAR(r.tune.second_lag_q8 / 256.0, 102, 26) << "seed " << seed;
+    EXPECT_LT(5 * r.tune.second_lag_q8, r.tune.first_lag_q8) << "seed " << seed;
     EXPECT_TRUE(f.ok) << "seed " << seed;
     EXPECT_TRUE(r.statefb) << "seed " << seed;
     EXPECT_LE(f.overshoot_c, 1.0) << "seed " << seed;
     EXPECT_LE(f.steady_pp_c, 0.5) << "seed " << seed;
     EXPECT_LE(f.settling_ratio, 2.0) << "seed " << seed;
+  }
+}
+
+// The PID family on the settings the tune computed (M310 S0/S2, F0/F1 after U1), seed000 plants:
+// HIL3's heat-up limits (overshoot ≤ 3 °C, |steady mean| ≤ 0.5 °C, p-p ≤ 1 °C before the fan
+// step). M307 from the fitted lags' two-point FOPDT (lag-type: fuzzy-PID F0 follows its heat-up)
+// put them there: host rig, fuzzy-PID −0.09 to −0.24 °C mean, ≤ 1.2 °C of overshoot; seed000-5's
+// PID −0.05 to 0.23 °C (before: −0.7 to −23 °C means, 17–23 °C overshoots). seed000-4's PID is
+// not asserted: −0.41 to −0.50 °C here, −0.52 / −0.72 °C in simavr (docs/bench/README.md).
+TEST(AutotuneAfterU1Unsure, PidFamilyOnTheTunedSettingsHeatsWithinHil3) {
+  struct Choice {
+    const char* plant;
+    firmware::ControllerId id;
+    uint8_t feedforward;
+  };
+  const Choice choices[] = {{"seed000-4", firmware::ControllerId::kFuzzyPid, 0},
+                            {"seed000-4", firmware::ControllerId::kFuzzyPid, 1},
+                            {"seed000-5", firmware::ControllerId::kFuzzyPid, 0},
+                            {"seed000-5", firmware::ControllerId::kFuzzyPid, 1},
+                            {"seed000-5", firmware::ControllerId::kPid, 0},
+                            {"seed000-5", firmware::ControllerId::kPid, 1}};
+  for (const after_u1::Plant& p : after_u1::seed000_plants()) {
+    for (unsigned long long seed : kSeeds) {
+      control::AutotuneResult r{};
+      ASSERT_TRUE(after_u1::tune(p, seed, kSimavrLikeNoiseC, &r)) << p.name << " seed " << seed;
+      control::TunedDesign d;
+      ASSERT_TRUE(control::design_from_tune(r, firmware::kControlPeriodMs, &d));
+      EXPECT_EQ(firmware::tuned_model_source(r), firmware::kModelMeasuredLag) << p.name;
+      for (const Choice& c : choices) {
+        if (p.name != c.plant) continue;
+        after_u1::Applied a = after_u1::applied(r, d, false);
+        a.settings.controller = static_cast<uint8_t>(c.id);
+        a.settings.feedforward = c.feedforward;
+        const after_u1::Figures f = after_u1::run(p, a);
+        std::printf("%s seed %llu M310 S%u F%u: os %.2f set %.2fx mean %.2f pp %.2f dip %.2f\n", c.plant, seed,
+                    static_cast<unsigned>(c.id), static_cast<unsigned>(c.feedforward), f.overshoot_c, f.settling_ratio,
+                    f.steady_mean_c, f.steady_pp_c, f.dip_c);
+        EXPECT_LE(f.overshoot_c, 3.0) << c.plant << " S" << int(c.id) << " F" << int(c.feedforward) << " seed " << seed;
+        EXPECT_LE(std::fabs(f.steady_mean_c), 0.5) << c.plant << " S" << int(c.id) << " F" << int(c.feedforward);
+        EXPECT_LE(f.steady_pp_c, 1.0) << c.plant << " S" << int(c.id) << " F" << int(c.feedforward);
+      }
+    }
   }
 }
 

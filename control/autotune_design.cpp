@@ -104,25 +104,24 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   if (2 * l_q8 >= tune.model.time_constant_q8) out->two_lags = false;  // l_q8 ≤ 600 s × 256: fits
   // An unsure tune whose record fits two lags (AutotuneResult::first_lag_q8, second_lag_q8;
   // τ1/10 ≤ τ2 < τ1/2): M307 (the PID rule, the model heat-up and feedforward) becomes their
-  // two-point FOPDT, and where τ2 ≥ τ1/5 the state feedback the two-lag law on τ1, τ2. Host rig
-  // after U1 (σ 0.02 °C, 4 noise seeds), seed000-4 (τ 522–529 / 193–196 s): state feedback 0.97 ×
-  // bound and 0.0 °C on τ1, τ2 (the FOPDT law on C 988 s, D + margin 132 s: 1.73 ×, 3.4 °C);
-  // PID + model following on M307 C τ1, D τ2 2.07–2.20 × and −0.8 to −1.2 °C steady, on the
-  // two-point FOPDT (C 597–601 s, D 151–152 s) 1.03–1.13 ×, −0.26 to −0.35 °C. seed000-5
-  // (τ 1,164–1,181 / 121–123 s): the two-lag law swung 2.6 °C p-p (the ~20 s of dead time the fit
-  // leaves out against T_cl = 0.6·τ2), and the FOPDT law on the two-point FOPDT overshot 5.7 °C,
-  // on τ1 and the relay's D + margin 6.2–8.1 °C: its state feedback keeps the relay's C and
-  // D + margin above (docs/autotune.md).
+  // two-point FOPDT, and the state feedback the two-lag law on τ1, τ2, paced where τ2 < τ1/5.
+  // Host rig after U1 (σ 0.02 °C, 4 noise seeds), seed000-4 (τ 522–529 / 193–196 s): state
+  // feedback 0.97 × bound and 0.0 °C on τ1, τ2 (the FOPDT law on C 988 s, D + margin 132 s:
+  // 1.73 ×, 3.4 °C); PID + model following on M307 C τ1, D τ2 2.07–2.20 × and −0.8 to −1.2 °C
+  // steady, on the two-point FOPDT (C 597–601 s, D 151–152 s) 1.03–1.13 ×, −0.26 to −0.35 °C.
+  // seed000-5 (τ 1,168–1,181 / 121–122 s): the unpaced two-lag law swung 2.6 °C p-p (the ~20 s of
+  // dead time the fit leaves out), paced 1.5–1.6 × and ≤ 0.06 °C (the FOPDT law on the relay's
+  // C and D + margin: 1.83–1.91 ×; on the two-point FOPDT 5.7 °C of overshoot).
+  out->lags_paced = false;
   if (tune.second_lag_q8 > 0) {
     two_lag_fopdt(tune.first_lag_q8, tune.second_lag_q8, &out->model.time_constant_q8, &l_q8);
     if (out->model.time_constant_q8 > kModelMaxTimeConstantQ8) out->model.time_constant_q8 = kModelMaxTimeConstantQ8;
     if (l_q8 > kModelMaxDeadTimeQ8) l_q8 = kModelMaxDeadTimeQ8;
     out->model.dead_time_q8 = l_q8;
-    if (5 * tune.second_lag_q8 >= tune.first_lag_q8) {
-      out->sf_c_q8 = tune.first_lag_q8;
-      out->sf_d_q8 = tune.second_lag_q8;
-      out->two_lags = true;
-    }
+    out->sf_c_q8 = tune.first_lag_q8;
+    out->sf_d_q8 = tune.second_lag_q8;
+    out->two_lags = true;
+    out->lags_paced = 5 * tune.second_lag_q8 < tune.first_lag_q8;
   }
   const uint32_t l = static_cast<uint32_t>(l_q8);
   const uint32_t t_pid_q8 = static_cast<uint32_t>(out->model.time_constant_q8);
@@ -145,7 +144,7 @@ bool design_tuned_state_feedback(TunedDesign* design, uint16_t period_ms, StateF
   m.time_constant_q8 = design->sf_c_q8;
   m.dead_time_q8 = design->sf_d_q8;
   if (design->two_lags) {
-    if (design_state_feedback_two_lags(m, period_ms, out)) return true;
+    if (design_state_feedback_two_lags(m, period_ms, out, design->lags_paced)) return true;
     // Refused: the FOPDT law on M307, and the design says so.
     design->two_lags = false;
     m = design->model;

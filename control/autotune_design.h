@@ -33,9 +33,12 @@ struct TunedDesign {
   // at 0.95–1.11 × (paced: 1.04–1.29 ×). Not without a lag seen (hotend40w-delay5: a transport
   // delay, which two lags without dead time oscillate on).
   bool two_lags;
+  // The two-lag law paced (T_cl ≥ 1.2·τ2, design_state_feedback_two_lags): on lags fitted with
+  // τ2 < τ1/5, where the dead time the fit leaves out is a larger share of T_cl.
+  bool lags_paced;
   // The C and D the state feedback is designed on (s × 256): two lags τ1, τ2 where two_lags.
   // M307's C and D, except after an unsure tune's two-lag fit: there M307 holds the lags'
-  // two-point FOPDT, and these are τ1, τ2, or (τ2 < τ1/5) the relay's C and D with the margin.
+  // two-point FOPDT, and these are τ1, τ2.
   int32_t sf_c_q8, sf_d_q8;
 };
 

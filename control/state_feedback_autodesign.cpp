@@ -366,7 +366,7 @@ __attribute__((noinline, noclone)) bool design(const HotendModel& model, uint16_
 // [f, e2, Γ2]; Φo's eigenvectors [β − α, f, 0], [0, 1, 0], [K, K, 1]) with P(z) = Π(z − λo_j):
 //   k_d = P(1)/(αβK),  k1 = P(1)/(αβ) − P(e1)/(α·e1·f),
 //   k2 = P(1)/(αβ) − P(e1)/(α(β − α)e1) + P(e2)/(β(β − α)e2),   P(e_i) = Π(ℓo_j − α_i).
-__attribute__((noinline, noclone)) bool design_two_lags(const HotendModel& model, uint16_t period_ms,
+__attribute__((noinline, noclone)) bool design_two_lags(const HotendModel& model, uint16_t period_ms, bool paced,
                                                         StateFeedbackConstants& k, Calc& c) {
   if (!hotend_model_valid(model) || period_ms == 0 || period_ms > 1000) return false;
   // Two distinct lags, the second at most half the first (well apart: Φ's eigenvalues distinct,
@@ -429,7 +429,8 @@ __attribute__((noinline, noclone)) bool design_two_lags(const HotendModel& model
   c.div(kLagGainQ, kU0, kU1);
 
   // Pole rule: c = h/T_cl = min(16·h/t_rise, h/(0.6·τ2), 1/2); t_rise = τ1·ln(K·r/(K − 185)), the
-  // two lags' asymptote (τ1 when K ≤ 185). 0.6·τ2: host sweep on the tuned models (docs/autotune.md).
+  // two lags' asymptote (τ1 when K ≤ 185). 0.6·τ2: host sweep on the tuned models (docs/autotune.md);
+  // paced: h/(1.2·τ2).
   c.ldexp(kLagC, kLagA1, 4);
   if (model.rise_q8 > kStepQ8) {
     c.set(kU0, model.rise_q8 - kStepQ8, -8);
@@ -440,8 +441,8 @@ __attribute__((noinline, noclone)) bool design_two_lags(const HotendModel& model
   }
   c.set(kU0, 5);
   c.mul(kU0, kU0, kLagA2);
-  c.set(kU1, 3);
-  c.div(kU0, kU0, kU1);  // h/(0.6·τ2)
+  c.set(kU1, paced ? 6 : 3);
+  c.div(kU0, kU0, kU1);  // h/(0.6·τ2), paced h/(1.2·τ2)
   c.min(kLagC, kLagC, kU0);
   c.min(kLagC, kLagC, kHalf);
   // Each lag slower than T_cl is sped up by T_dom/T_cl = τ1/T_cl (controller: capped at 2h;
@@ -566,10 +567,11 @@ bool design_state_feedback_fopdt(const HotendModel& model, uint16_t period_ms, S
   return false;
 }
 
-bool design_state_feedback_two_lags(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants* out) {
+bool design_state_feedback_two_lags(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants* out,
+                                    bool paced) {
   *out = StateFeedbackConstants();
   Calc calc;
-  if (design_two_lags(model, period_ms, *out, calc)) return true;
+  if (design_two_lags(model, period_ms, paced, *out, calc)) return true;
   *out = StateFeedbackConstants();
   return false;
 }

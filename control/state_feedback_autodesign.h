@@ -34,6 +34,10 @@ bool design_state_feedback_fopdt(const HotendModel& model, uint16_t period_ms, S
 // needs step simulations; 0.6·τ2 is where the tuned seed003/heavy-slow models' own saturated steps
 // stop overshooting much: docs/autotune.md). False, and *out all zero, as the FOPDT design; also
 // when D is 0 or more than C/2 (two lags that far apart only).
-bool design_state_feedback_two_lags(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants* out);
+// paced: T_cl at least 1.2·τ2 instead of 0.6·τ2, for two lags fitted to a record whose dead time
+// they leave out (seed000-5: ~20 s against τ2 ≈ 122 s; at 0.6·τ2 the law swung 2.6 °C p-p,
+// at 0.8–0.9·τ2 1.5–2.3 °C, from 1.0·τ2 on it holds: docs/autotune.md).
+bool design_state_feedback_two_lags(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants* out,
+                                    bool paced = false);
 
 }  // namespace control

@@ -80,17 +80,16 @@ __attribute__((noinline)) void write_design(gcode::Output& out, const control::A
 
 // The controller M303 picks: `rest` completes "M310 S1 (state feedback" (its variants share
 // that text) or, without state feedback, is the whole M310 S0 text. The two-lag law names its
-// lags exactly, and so does a FOPDT law on other C and D than M307's (hotend-sim's check of the
-// board's M311 designs from them and M307's A and F).
+// lags exactly, and whether it is paced (hotend-sim's check of the board's M311 designs from
+// them and M307's A and F).
 void write_choice(gcode::Output& out, bool state_feedback, const gcode::FlashText* rest, const control::TunedDesign& d) {
   if (state_feedback) out.print(GCODE_TEXT("M310 S1 (state feedback"));
-  // (A FOPDT law on other C and D than M307's: after an unsure tune's wide two-lag fit.)
-  if (state_feedback && (d.two_lags || d.sf_c_q8 != d.model.time_constant_q8 || d.sf_d_q8 != d.model.dead_time_q8)) {
-    out.print(d.two_lags ? GCODE_TEXT(", two lags ") : GCODE_TEXT(", FOPDT C "));
+  if (state_feedback && d.two_lags) {
+    out.print(GCODE_TEXT(", two lags "));
     out.write_exact(d.sf_c_q8, 8);
-    out.print(d.two_lags ? GCODE_TEXT(" s and ") : GCODE_TEXT(" s D "));
+    out.print(GCODE_TEXT(" s and "));
     out.write_exact(d.sf_d_q8, 8);
-    out.print(GCODE_TEXT(" s"));
+    out.print(d.lags_paced ? GCODE_TEXT(" s, paced") : GCODE_TEXT(" s"));
   }
   out.print(rest);
 }

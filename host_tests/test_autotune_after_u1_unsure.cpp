@@ -55,9 +55,10 @@ TEST(AutotuneAfterU1Unsure, Seed000_4FitsTwoLagsAndMeetsTheTargets) {
 }
 
 // seed000-5 (registered in HIL7): its record fits τ 1,168–1,181 / 121–122 s (plant 1,176/102),
-// τ2 < τ1/5, so M307 becomes their two-point FOPDT but the state feedback keeps the one-state law
-// on the relay's C and D + the 3/8 margin (L/C ≈ 0.05): overshoot 0.00–0.73 °C, p-p
-// 0.31–0.47 °C, settling 1.83–1.91 × bound; HIL7's limits, and that settling, must hold.
+// τ2 < τ1/5: M307 becomes their two-point FOPDT and the state feedback the paced two-lag law
+// (T_cl ≥ 1.2·τ2): overshoot 0.03–0.05 °C, p-p 0.05–0.08 °C, 1.54–1.56 × bound, fan dip
+// 0.71–0.96 °C. Before, the one-state law on the relay's C and D + 3/8: 0.00–0.73 °C, p-p
+// 0.31–0.47 °C, 1.83–1.91 ×. Issue 7's 1.2 × is still missed.
 TEST(AutotuneAfterU1Unsure, Seed000_5StaysWithinHil7) {
   for (unsigned long long seed : kSeeds) {
     const Seed000Run r = tune_and_heat("seed000-5", seed);
@@ -69,7 +70,8 @@ TEST(AutotuneAfterU1Unsure, Seed000_5StaysWithinHil7) {
     EXPECT_TRUE(r.statefb) << "seed " << seed;
     EXPECT_LE(f.overshoot_c, 1.0) << "seed " << seed;
     EXPECT_LE(f.steady_pp_c, 0.5) << "seed " << seed;
-    EXPECT_LE(f.settling_ratio, 2.0) << "seed " << seed;
+    EXPECT_LE(f.settling_ratio, 1.7) << "seed " << seed;
+    EXPECT_LE(f.dip_c, 1.0) << "seed " << seed;
   }
 }
 

@@ -346,29 +346,37 @@ TEST(AutotuneDesign, AnUnsureTunesSecondLagGivesTheTwoLagLaw) {
 }
 
 // A wide fit (seed000-5 in simavr-like conditions: relay C 1,570.7, D 66.9; τ1 1,169.2, τ2 121.9,
-// τ2 < τ1/5): M307 and the PID on the two-point FOPDT, the state feedback the one-state law on the
-// relay's C and D + margin (the two-lag law swung 2.6 °C there; the FOPDT law on τ1 overshot
-// 6–8 °C), and the applied line must name that model (!two_lags, sf_* ≠ M307's).
-TEST(AutotuneDesign, AWideFitKeepsTheRelaysModelForTheStateFeedback) {
+// τ2 < τ1/5): M307 and the PID on the two-point FOPDT, the state feedback the paced two-lag law
+// on τ1, τ2 (T_cl ≥ 1.2·τ2: unpaced it swung 2.6 °C there), whose constants differ from the
+// unpaced law's.
+TEST(AutotuneDesign, AWideFitGetsThePacedTwoLagLaw) {
   control::AutotuneResult r = fitted_tune(tune_of(455.6, 1570.7, 66.9, 260.0, 47.0), 1169.2, 121.9);
   control::TunedDesign d;
   ASSERT_TRUE(control::design_from_tune(r, 128, &d));
-  EXPECT_FALSE(d.two_lags);
-  EXPECT_EQ(d.sf_c_q8, r.model.time_constant_q8);
-  EXPECT_GT(d.sf_d_q8, r.model.dead_time_q8);  // the unsure margin
+  EXPECT_TRUE(d.two_lags);
+  EXPECT_TRUE(d.lags_paced);
+  EXPECT_EQ(d.sf_c_q8, r.first_lag_q8);
+  EXPECT_EQ(d.sf_d_q8, r.second_lag_q8);
   double c = 0, l = 0;
   two_point_fopdt(1169.2, 121.9, &c, &l);
   EXPECT_NEAR(d.model.time_constant_q8 / 256.0, c, 0.001 * c);
   EXPECT_NEAR(d.model.dead_time_q8 / 256.0, l, 0.008 * l);
   EXPECT_TRUE(control::tune_heat_up_trusted(r));
   EXPECT_FALSE(control::dead_time_leads(r, d));
-  control::StateFeedbackConstants k, relay_law;
+  control::StateFeedbackConstants k, paced, unpaced;
   ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
-  EXPECT_EQ(k.n, 1);
-  control::HotendModel relay = r.model;
-  relay.dead_time_q8 = d.sf_d_q8;
-  ASSERT_TRUE(control::design_state_feedback_fopdt(relay, 128, &relay_law));
-  EXPECT_EQ(std::memcmp(&k, &relay_law, sizeof k), 0);
+  EXPECT_EQ(k.n, 2);
+  control::HotendModel lags = d.model;
+  lags.time_constant_q8 = r.first_lag_q8;
+  lags.dead_time_q8 = r.second_lag_q8;
+  ASSERT_TRUE(control::design_state_feedback_two_lags(lags, 128, &paced, true));
+  ASSERT_TRUE(control::design_state_feedback_two_lags(lags, 128, &unpaced, false));
+  EXPECT_EQ(std::memcmp(&k, &paced, sizeof k), 0);
+  EXPECT_NE(std::memcmp(&k, &unpaced, sizeof k), 0);
+  // seed000-4's narrower pair stays unpaced.
+  control::AutotuneResult narrow = fitted_tune(tune_of(456.16, 987.7, 67.156, 282.75, 47.754), 532.793, 188.70);
+  ASSERT_TRUE(control::design_from_tune(narrow, 128, &d));
+  EXPECT_FALSE(d.lags_paced);
 }
 
 }  // namespace

@@ -42,10 +42,11 @@ design::LtiModel host_model(const HotendModel& m) {
 }
 
 // The board's pole rule in double (state_feedback_autodesign.h), then the host's design at it.
-design::Design host_design(const HotendModel& m) {
+// paced: T_cl ≥ 1.2·τ2 instead of 0.6·τ2.
+design::Design host_design(const HotendModel& m, bool paced = false) {
   const double k = m.rise_q8 / 256.0, t1 = m.time_constant_q8 / 256.0, t2 = m.dead_time_q8 / 256.0, h = 0.256;
   const double t_rise = k > 185 ? t1 * std::log(k * t1 / (t1 - t2) / (k - 185)) : t1;
-  const double c = std::fmin(std::fmin(16 * h / t_rise, h / (0.6 * t2)), 0.5);
+  const double c = std::fmin(std::fmin(16 * h / t_rise, h / ((paced ? 1.2 : 0.6) * t2)), 0.5);
   const design::LtiModel model = host_model(m);
   design::DesignOptions o;
   design::Design probe;
@@ -70,7 +71,7 @@ std::vector<TwoLags> grid() {
   return out;
 }
 
-TEST(StateFeedbackTwoLags, MatchesTheHostDesignFieldByField) {
+void expect_matches_host_field_by_field(bool paced) {
   double worst_rel = 0;
   int worst_lsb = 0, shift_mismatches = 0;
   std::string worst_rel_field, worst_lsb_field;
@@ -78,8 +79,8 @@ TEST(StateFeedbackTwoLags, MatchesTheHostDesignFieldByField) {
     SCOPED_TRACE(::testing::Message() << "K " << p.k << " t1 " << p.t1 << " t2 " << p.t2 << " F " << p.f);
     const HotendModel m = board_model(p);
     StateFeedbackConstants board, host;
-    ASSERT_TRUE(control::design_state_feedback_two_lags(m, 128, &board));
-    const design::Design d = host_design(m);
+    ASSERT_TRUE(control::design_state_feedback_two_lags(m, 128, &board, paced));
+    const design::Design d = host_design(m, paced);
     ASSERT_EQ(d.error, nullptr);
     const char* err = design::quantize(d, host_model(m).fan_loss_per_k, &host);
     ASSERT_EQ(err, nullptr) << err;
@@ -108,10 +109,15 @@ TEST(StateFeedbackTwoLags, MatchesTheHostDesignFieldByField) {
       if (rel > worst_rel) worst_rel = rel, worst_rel_field = f.name;
     }
   }
-  std::printf("two-lag design, on-board vs host, %zu models: worst relative %.2e (%s), worst %d LSB (%s), "
+  std::printf("two-lag design%s, on-board vs host, %zu models: worst relative %.2e (%s), worst %d LSB (%s), "
               "rows at a different shift %d\n",
-              grid().size(), worst_rel, worst_rel_field.c_str(), worst_lsb, worst_lsb_field.c_str(), shift_mismatches);
+              paced ? " (paced)" : "", grid().size(), worst_rel, worst_rel_field.c_str(), worst_lsb, worst_lsb_field.c_str(), shift_mismatches);
 }
+
+TEST(StateFeedbackTwoLags, MatchesTheHostDesignFieldByField) { expect_matches_host_field_by_field(false); }
+
+// The paced law (T_cl ≥ 1.2·τ2: lags fitted with τ2 < τ1/5, control/autotune_design.h).
+TEST(StateFeedbackTwoLags, PacedMatchesTheHostDesignFieldByField) { expect_matches_host_field_by_field(true); }
 
 TEST(StateFeedbackTwoLags, ClosedLoopFollowsTheHostDesignWithinTwoTenthsOfAKelvin) {
   double worst = 0;

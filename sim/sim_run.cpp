@@ -228,24 +228,21 @@ void Runner::expect_board_design(const std::string& applied) {
   for (int i = 0; i < 4; ++i) q8[i] = static_cast<int32_t>(std::lround(v[i] * 256.0));
   control::StateFeedbackConstants k;
   const bool paced = applied.find("paced by D") != std::string::npos;  // T_cl ≥ D (control/autotune_design.h)
-  // "two lags <τ1> s and <τ2> s": the two-lag law on those; "FOPDT C <C> s D <D> s": the FOPDT law
-  // on those; both with M307's A and F. Else the FOPDT law on M307.
+  // "two lags <τ1> s and <τ2> s[, paced]": the two-lag law on those, with M307's A and F.
   const std::size_t lags = applied.find("two lags ");
-  const std::size_t fopdt = applied.find("FOPDT C ");
   const bool two_lags = lags != std::string::npos;
+  const bool lags_paced = applied.find(" s, paced)") != std::string::npos;
   control::HotendModel model{q8[0], q8[1], q8[2], q8[3]};
-  if (two_lags || fopdt != std::string::npos) {
+  if (two_lags) {
     double c = 0, d = 0;
-    const int read = two_lags ? std::sscanf(applied.c_str() + lags, "two lags %lf s and %lf s", &c, &d)
-                              : std::sscanf(applied.c_str() + fopdt, "FOPDT C %lf s D %lf s", &c, &d);
-    if (read != 2) {
-      result_.problems.push_back("the applied line's state-feedback model does not read: " + applied);
+    if (std::sscanf(applied.c_str() + lags, "two lags %lf s and %lf s", &c, &d) != 2) {
+      result_.problems.push_back("the applied line's two lags do not read: " + applied);
       return;
     }
     model.time_constant_q8 = static_cast<int32_t>(std::lround(c * 256.0));
     model.dead_time_q8 = static_cast<int32_t>(std::lround(d * 256.0));
   }
-  if (!(two_lags ? control::design_state_feedback_two_lags(model, 128, &k)
+  if (!(two_lags ? control::design_state_feedback_two_lags(model, 128, &k, lags_paced)
                  : control::design_state_feedback_fopdt(model, 128, &k, paced))) {
     result_.problems.push_back("the host's build of the board design refuses the applied " + applied.substr(at));
     return;

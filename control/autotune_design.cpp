@@ -116,6 +116,7 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   if (tune.second_lag_q8 > 0) {
     two_lag_fopdt(tune.first_lag_q8, tune.second_lag_q8, &out->model.time_constant_q8, &l_q8);
     if (out->model.time_constant_q8 > kModelMaxTimeConstantQ8) out->model.time_constant_q8 = kModelMaxTimeConstantQ8;
+    if (l_q8 < kMinDesignDeadTimeQ8) l_q8 = kMinDesignDeadTimeQ8;  // the PID rule's L ≥ 0.5 s
     if (l_q8 > kModelMaxDeadTimeQ8) l_q8 = kModelMaxDeadTimeQ8;
     out->model.dead_time_q8 = l_q8;
     out->sf_c_q8 = tune.first_lag_q8;

@@ -373,6 +373,13 @@ TEST(AutotuneDesign, AWideFitGetsThePacedTwoLagLaw) {
   ASSERT_TRUE(control::design_state_feedback_two_lags(lags, 128, &unpaced, false));
   EXPECT_EQ(std::memcmp(&k, &paced, sizeof k), 0);
   EXPECT_NE(std::memcmp(&k, &unpaced, sizeof k), 0);
+  // A tiny pair (the fit accepts any τ2 > 0): the PID rule's L stays at its 0.5 s floor, so its
+  // Kp stays within range rather than overflowing.
+  control::AutotuneResult tiny = fitted_tune(tune_of(450, 30, 1, 4, 40), 2.0, 0.3);
+  ASSERT_TRUE(control::design_from_tune(tiny, 128, &d));
+  EXPECT_EQ(d.model.dead_time_q8, control::kMinDesignDeadTimeQ8);
+  const double tiny_c = d.model.time_constant_q8 / 256.0;
+  EXPECT_NEAR(d.pid.kp_q16 / 65536.0, tiny_c / (450.0 / 255 * 3 * 0.5), 0.01 * tiny_c / (450.0 / 255 * 1.5));
   // seed000-4's narrower pair stays unpaced.
   control::AutotuneResult narrow = fitted_tune(tune_of(456.16, 987.7, 67.156, 282.75, 47.754), 532.793, 188.70);
   ASSERT_TRUE(control::design_from_tune(narrow, 128, &d));

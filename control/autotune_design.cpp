@@ -94,14 +94,6 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
     if (margin_q8 > l_q8) margin_q8 = l_q8;
     l_q8 += margin_q8;
   }
-  if (l_q8 < kMinDesignDeadTimeQ8) l_q8 = kMinDesignDeadTimeQ8;
-  if (l_q8 > kModelMaxDeadTimeQ8) l_q8 = kModelMaxDeadTimeQ8;
-  out->model.dead_time_q8 = l_q8;  // the feedforward's heat-up must respect the same delay
-  // The state feedback's C and D: M307's, as two lags where a lag was seen and D < C/2 strictly
-  // (at 2·D = C dead_time_leads already hands U1 to the PID).
-  out->sf_c_q8 = tune.model.time_constant_q8;
-  out->sf_d_q8 = l_q8;
-  if (2 * l_q8 >= tune.model.time_constant_q8) out->two_lags = false;  // l_q8 ≤ 600 s × 256: fits
   // An unsure tune whose record fits two lags (AutotuneResult::first_lag_q8, second_lag_q8;
   // τ1/10 ≤ τ2 < τ1/2): M307 (the PID rule, the model heat-up and feedforward) becomes their
   // two-point FOPDT, and the state feedback the two-lag law on τ1, τ2, paced where τ2 < τ1/5.
@@ -112,17 +104,26 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   // seed000-5 (τ 1,168–1,181 / 121–122 s): the unpaced two-lag law swung 2.6 °C p-p (the ~20 s of
   // dead time the fit leaves out), paced 1.5–1.6 × and ≤ 0.06 °C (the FOPDT law on the relay's
   // C and D + margin: 1.83–1.91 ×; on the two-point FOPDT 5.7 °C of overshoot).
-  out->lags_paced = false;
-  if (tune.second_lag_q8 > 0) {
+  const bool fitted = tune.second_lag_q8 > 0;
+  if (fitted) {
     two_lag_fopdt(tune.first_lag_q8, tune.second_lag_q8, &out->model.time_constant_q8, &l_q8);
     if (out->model.time_constant_q8 > kModelMaxTimeConstantQ8) out->model.time_constant_q8 = kModelMaxTimeConstantQ8;
-    if (l_q8 < kMinDesignDeadTimeQ8) l_q8 = kMinDesignDeadTimeQ8;  // the PID rule's L ≥ 0.5 s
-    if (l_q8 > kModelMaxDeadTimeQ8) l_q8 = kModelMaxDeadTimeQ8;
-    out->model.dead_time_q8 = l_q8;
+  }
+  // (The PID rule's L ≥ 0.5 s also bounds its Kp below.)
+  if (l_q8 < kMinDesignDeadTimeQ8) l_q8 = kMinDesignDeadTimeQ8;
+  if (l_q8 > kModelMaxDeadTimeQ8) l_q8 = kModelMaxDeadTimeQ8;
+  out->model.dead_time_q8 = l_q8;  // the feedforward's heat-up must respect the same delay
+  // The state feedback's C and D: the fitted lags, else M307's, as two lags where a lag was seen
+  // and D < C/2 strictly (at 2·D = C dead_time_leads already hands U1 to the PID).
+  out->lags_paced = fitted && 5 * tune.second_lag_q8 < tune.first_lag_q8;
+  if (fitted) {
     out->sf_c_q8 = tune.first_lag_q8;
     out->sf_d_q8 = tune.second_lag_q8;
     out->two_lags = true;
-    out->lags_paced = 5 * tune.second_lag_q8 < tune.first_lag_q8;
+  } else {
+    out->sf_c_q8 = tune.model.time_constant_q8;
+    out->sf_d_q8 = l_q8;
+    if (2 * l_q8 >= tune.model.time_constant_q8) out->two_lags = false;  // l_q8 ≤ 600 s × 256: fits
   }
   const uint32_t l = static_cast<uint32_t>(l_q8);
   const uint32_t t_pid_q8 = static_cast<uint32_t>(out->model.time_constant_q8);

@@ -311,6 +311,20 @@ control::AutotuneResult fitted_tune(control::AutotuneResult r, double lag1_s, do
   return r;
 }
 
+// What every fitted design shares: the two-lag law on the fitted lags, M307 their two-point
+// FOPDT (*c, *l: the double fit) with the relay's A, a trusted heat-up, and state feedback kept.
+void expect_fitted_design(const control::AutotuneResult& r, const control::TunedDesign& d, double* c, double* l) {
+  EXPECT_TRUE(d.two_lags);
+  EXPECT_EQ(d.sf_c_q8, r.first_lag_q8);
+  EXPECT_EQ(d.sf_d_q8, r.second_lag_q8);
+  two_point_fopdt(r.first_lag_q8 / 256.0, r.second_lag_q8 / 256.0, c, l);
+  EXPECT_NEAR(d.model.time_constant_q8 / 256.0, *c, 0.001 * *c);
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, *l, 0.008 * *l);
+  EXPECT_EQ(d.model.rise_q8, r.model.rise_q8);
+  EXPECT_TRUE(control::tune_heat_up_trusted(r));  // fuzzy-PID F0 may follow that model's heat-up
+  EXPECT_FALSE(control::dead_time_leads(r, d));
+}
+
 // An unsure tune whose record fits two lags (seed000-4 in simavr: relay C 987.7, D 67.2, Tu 283;
 // the fit's τ1 532.8, τ2 188.7): the two-lag law on τ1, τ2 with no unsure margin, M307 and the
 // PID on their two-point FOPDT, and U1 keeps state feedback. Without the fit, the same tune keeps
@@ -319,20 +333,12 @@ TEST(AutotuneDesign, AnUnsureTunesSecondLagGivesTheTwoLagLaw) {
   control::AutotuneResult r = fitted_tune(tune_of(456.16, 987.7, 67.156, 282.75, 47.754), 532.793, 188.70);
   control::TunedDesign d;
   ASSERT_TRUE(control::design_from_tune(r, 128, &d));
-  EXPECT_TRUE(d.two_lags);
-  EXPECT_EQ(d.sf_c_q8, r.first_lag_q8);
-  EXPECT_EQ(d.sf_d_q8, r.second_lag_q8);
   double c = 0, l = 0;
-  two_point_fopdt(532.793, 188.70, &c, &l);
-  EXPECT_NEAR(d.model.time_constant_q8 / 256.0, c, 0.001 * c);
-  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, l, 0.008 * l);
-  EXPECT_EQ(d.model.rise_q8, r.model.rise_q8);
+  expect_fitted_design(r, d, &c, &l);
   // SIMC PI on that FOPDT (τc = 2L): Kp = C/(K·3L), Ti = min(C, 12·L), in M301 units.
   const double gain = 456.16 / 255;
   EXPECT_NEAR(d.pid.kp_q16 / 65536.0, c / (gain * 3 * l), 0.01 * c / (gain * 3 * l));
   EXPECT_NEAR(d.pid.ki_q16 / 65536.0, c / (gain * 3 * l) / std::fmin(c, 12 * l), 0.01 * c / (gain * 3 * l) / c);
-  EXPECT_TRUE(control::tune_heat_up_trusted(r));  // fuzzy-PID F0 may follow that model's heat-up
-  EXPECT_FALSE(control::dead_time_leads(r, d));
   control::StateFeedbackConstants k;
   ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
   EXPECT_EQ(k.n, 2);
@@ -353,16 +359,9 @@ TEST(AutotuneDesign, AWideFitGetsThePacedTwoLagLaw) {
   control::AutotuneResult r = fitted_tune(tune_of(455.6, 1570.7, 66.9, 260.0, 47.0), 1169.2, 121.9);
   control::TunedDesign d;
   ASSERT_TRUE(control::design_from_tune(r, 128, &d));
-  EXPECT_TRUE(d.two_lags);
-  EXPECT_TRUE(d.lags_paced);
-  EXPECT_EQ(d.sf_c_q8, r.first_lag_q8);
-  EXPECT_EQ(d.sf_d_q8, r.second_lag_q8);
   double c = 0, l = 0;
-  two_point_fopdt(1169.2, 121.9, &c, &l);
-  EXPECT_NEAR(d.model.time_constant_q8 / 256.0, c, 0.001 * c);
-  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, l, 0.008 * l);
-  EXPECT_TRUE(control::tune_heat_up_trusted(r));
-  EXPECT_FALSE(control::dead_time_leads(r, d));
+  expect_fitted_design(r, d, &c, &l);
+  EXPECT_TRUE(d.lags_paced);
   control::StateFeedbackConstants k, paced, unpaced;
   ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
   EXPECT_EQ(k.n, 2);

@@ -13,9 +13,11 @@
 #include <vector>
 
 #include "control/autotune.h"
+#include "control/autotune_design.h"
 #include "design/lti_model.h"
 #include "design/seed_models.h"
 #include "design/plant_sim.h"
+#include "host_tests/lag_delay_hotend.h"
 
 namespace {
 
@@ -897,3 +899,38 @@ TEST(Autotune, FanThatDoesNotCoolEndsTheStepBeforeTargetPlus5) {
   }
 }
 
+
+// autotune_fuzz's first finding: a lag-heavy hotend (two lags 290 s and 25 s) on a quantised
+// sensor (0.2 °C steps, σ 0.1 °C), where no relay cycle fits the FOPDT formulas (its low level's
+// steady rise sits above the cycle's minimum), finished with C = 0, a model M307 refuses, though
+// the heat-up's K/S gave one. Now C comes from K/S, and U1 has a design.
+TEST(Autotune, NoFopdtRelayCycleStillGivesATimeConstant) {
+  lag_delay_hotend::Params p;
+  p.k_c = 430;
+  p.tau1_s = 289.8;
+  p.tau2_s = 25.2;
+  p.dead_s = 1.2;
+  p.noise_c = 0.1;
+  p.quant_c = 0.2;
+  p.noise_seed = 4;
+  lag_delay_hotend::Hotend hotend(p, kPeriodS);
+  Autotune at;
+  at.configure(128);
+  ASSERT_TRUE(at.start(210 * 256, 5, true));
+  control::AutotuneOutput o{};
+  for (int i = 0; i < 60000; ++i) {
+    o = at.step(static_cast<int32_t>(std::lround(hotend.reading() * 256)));
+    if (o.state != AutotuneState::kRunning) break;
+    hotend.run(o.duty_q16 / 65535.0, o.fan_duty / 255.0);
+  }
+  ASSERT_EQ(o.state, AutotuneState::kFinished);
+  const control::HotendModel& m = at.result().model;
+  std::printf("  A %.1f C %.1f D %.1f F %.1f (plant 430, lags 289.8 / 25.2 s, delay 1.2 s)\n", m.rise_q8 / 256.0,
+              m.time_constant_q8 / 256.0, m.dead_time_q8 / 256.0, m.fan_loss_pct_q8 / 256.0);
+  EXPECT_NEAR(m.rise_q8 / 256.0, 430, 430 * 0.05);
+  EXPECT_GT(m.time_constant_q8 / 256.0, 0.5 * 289.8);
+  EXPECT_LT(m.time_constant_q8 / 256.0, 1.5 * 289.8);
+  EXPECT_GT(m.dead_time_q8, 0);
+  control::TunedDesign d;
+  EXPECT_TRUE(control::design_from_tune(at.result(), 128, &d));
+}

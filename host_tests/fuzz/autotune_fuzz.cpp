@@ -55,8 +55,8 @@ lag_delay_hotend::Params hotend_from(const uint8_t* d, size_t n) {
 }
 
 // AUTOTUNE_FUZZ_ENVELOPE=1 (a search, not CTest's run): the bytes pick a hotend inside issue 7's
-// bank envelope instead (30–80 W-class gains, τ 30–300 s, lag plus dead time ≤ 25 s, σ ≤ 0.3 °C,
-// cold, targets the heater reaches, no disturbances), and the oracles add issue 7's promises:
+// bank envelope instead (30–80 W-class gains, τ 30–300 s, at most 16 °C/s at full power, lag plus
+// dead time ≤ 25 s, σ ≤ 0.3 °C, cold, targets the heater reaches, no disturbances), and the oracles add issue 7's promises:
 // the tune finishes, stays within S + 5 °C (plus 3 σ of reading noise) and gives a design.
 bool envelope_mode() {
   static const bool on = std::getenv("AUTOTUNE_FUZZ_ENVELOPE") != nullptr;
@@ -94,7 +94,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const double top = std::fmin(255.0, params.ambient_c + 0.75 * params.k_c);
     target_q8 = static_cast<int32_t>(std::lround(256 * (150.0 + (top - 150.0) * byte_at(data, size, 9) / 255.0)));
     cycles = static_cast<uint8_t>(3 + byte_at(data, size, 10) % 18);
-    if (top < 150.0) return 0;
+    // A real block heats at most P/C = 80 W / 5 J/K = 16 °C/s (the bank's fastest: fopdt-fast 15).
+    if (top < 150.0 || params.k_c / params.tau1_s > 16.0) return 0;
   }
   const bool measure_fan = (byte_at(data, size, 11) & 1) == 0;
   if (!tune.start(target_q8, cycles, measure_fan)) {

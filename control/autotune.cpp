@@ -1725,7 +1725,9 @@ bool Autotune::compute_chunk() {
         // The probe's C where it agrees with the relay's within 20 % (an FOPDT hotend, where the
         // probe's C is the more accurate: relay T scatters ±14 % at σ 0.1 °C; a lag's disagree by
         // ≥ 27 %), or where no relay cycle fitted the FOPDT formulas (T 0: a lag-heavy hotend on a
-        // quantised sensor, found by autotune_fuzz, finished with C 0): |C − T| < 2^23, × 5 < 2^26.
+        // quantised sensor, found by autotune_fuzz, finished with C 0; there the probe's C and K/S
+        // below agreed within 1 %, and K/S stands in where the probe has none):
+        // |C − T| < 2^23, × 5 < 2^26.
         m.time_constant_q8 = v.lambda;
       } else if (hot_start_ && inv_t_nofan_q16_ > 0) {
         // A hot start has no heat-up from a steady baseline to read T from, but the approach
@@ -1743,8 +1745,8 @@ bool Autotune::compute_chunk() {
         // A cut probe (hot start, or a slower response): S = K/T at full power. The relay's FOPDT
         // formulas read a sensor lag as a long T (×3 on a lag-type hotend); K/S does not. Taken
         // when it is well below the relay's T (an FOPDT hotend: within noise, the relay's kept) or
-        // the relay gave none;
-        // cold starts only (a hot start's pulse is read against a decaying baseline: S unsure).
+        // the relay gave none; cold starts only (a hot start's pulse is read against a decaying
+        // baseline: S unsure).
         // K < 2^19, × (s × 256 per bin) < 2^10: < 2^29.
         const uint32_t num = static_cast<uint32_t>(v.k_q8) * static_cast<uint32_t>(seconds_q8(kTicksPerBin));
         const int32_t t_s = static_cast<int32_t>((num + static_cast<uint32_t>(slope_q8_) / 2) / static_cast<uint32_t>(slope_q8_));

@@ -32,6 +32,7 @@ class Hotend {
   Hotend(const Params& p, double period_s)
       : p_(p), period_s_(period_s), x1_(p.start_rise_c), x2_(p.start_rise_c), rng_(0x9E3779B9u ^ p.noise_seed) {
     delay_steps_ = static_cast<size_t>(std::lround(std::fmin(p.dead_s, kMaxDelayS) / period_s));
+    if (delay_steps_ >= kRing) delay_steps_ = kRing - 1;  // periods under 119 ms: the delay is cut
   }
 
   // The reading at the end of the current period, °C.

@@ -14,6 +14,7 @@
 
 #include "control/autotune.h"
 #include "control/autotune_design.h"
+#include "control/feedforward.h"
 #include "design/lti_model.h"
 #include "design/seed_models.h"
 #include "design/plant_sim.h"
@@ -899,38 +900,57 @@ TEST(Autotune, FanThatDoesNotCoolEndsTheStepBeforeTargetPlus5) {
   }
 }
 
+// autotune_fuzz's findings: tunes whose relay cycles all miss the FOPDT formulas (no relay T)
+// finished with C = 0, a model M307 refuses, though the probe had one; the probe's C, else K/S,
+// now stands in. (a) a lag-heavy hotend (two lags 290 s and 25 s) on a quantised sensor (0.2 °C
+// steps, σ 0.1 °C): its low level's steady rise sits above the cycle's minimum, the probe's C
+// serves; (b) a very slow block (τ 2,497 s) tuned at 70 °C, C11: no probe C (its peak never
+// shows), K/S serves. Before: C 0 on both.
+struct NoRelayTCase {
+  const char* name;
+  lag_delay_hotend::Params plant;
+  int32_t target_c;
+  uint8_t cycles;
+  double c_low_s, c_high_s;  // the time constant accepted (the plant's own FOPDT lies within)
+  bool designs;  // U1 designs on it (the slow block's PID rule wants a Kp over Pid's limit: refused)
+};
 
-// autotune_fuzz's first finding: a lag-heavy hotend (two lags 290 s and 25 s) on a quantised
-// sensor (0.2 °C steps, σ 0.1 °C), where no relay cycle fits the FOPDT formulas (its low level's
-// steady rise sits above the cycle's minimum), finished with C = 0, a model M307 refuses, though
-// the heat-up's K/S gave one. Now C comes from K/S, and U1 has a design.
 TEST(Autotune, NoFopdtRelayCycleStillGivesATimeConstant) {
-  lag_delay_hotend::Params p;
-  p.k_c = 430;
-  p.tau1_s = 289.8;
-  p.tau2_s = 25.2;
-  p.dead_s = 1.2;
-  p.noise_c = 0.1;
-  p.quant_c = 0.2;
-  p.noise_seed = 4;
-  lag_delay_hotend::Hotend hotend(p, kPeriodS);
-  Autotune at;
-  at.configure(128);
-  ASSERT_TRUE(at.start(210 * 256, 5, true));
-  control::AutotuneOutput o{};
-  for (int i = 0; i < 60000; ++i) {
-    o = at.step(static_cast<int32_t>(std::lround(hotend.reading() * 256)));
-    if (o.state != AutotuneState::kRunning) break;
-    hotend.run(o.duty_q16 / 65535.0, o.fan_duty / 255.0);
+  lag_delay_hotend::Params lag_heavy;
+  lag_heavy.k_c = 430;
+  lag_heavy.tau1_s = 289.8;
+  lag_heavy.tau2_s = 25.2;
+  lag_heavy.dead_s = 1.2;
+  lag_heavy.noise_c = 0.1;
+  lag_heavy.quant_c = 0.2;
+  lag_heavy.noise_seed = 4;
+  lag_delay_hotend::Params slow;
+  slow.k_c = 454;
+  slow.tau1_s = 2497.4;
+  slow.fan_loss = 0;
+  slow.ambient_c = 15;
+  const NoRelayTCase cases[] = {{"lag-heavy, quantised", lag_heavy, 210, 5, 0.5 * 289.8, 1.5 * 289.8, true},
+                                {"slow block at 70 °C", slow, 70, 11, 0.9 * 2497.4, 1.1 * 2497.4, false}};
+  for (const NoRelayTCase& c : cases) {
+    lag_delay_hotend::Hotend hotend(c.plant, kPeriodS);
+    Autotune at;
+    at.configure(128);
+    ASSERT_TRUE(at.start(c.target_c * 256, c.cycles, true)) << c.name;
+    control::AutotuneOutput o{};
+    for (int i = 0; i < 80000; ++i) {
+      o = at.step(static_cast<int32_t>(std::lround(hotend.reading() * 256)));
+      if (o.state != AutotuneState::kRunning) break;
+      hotend.run(o.duty_q16 / 65535.0, o.fan_duty / 255.0);
+    }
+    ASSERT_EQ(o.state, AutotuneState::kFinished) << c.name;
+    const control::HotendModel& m = at.result().model;
+    std::printf("  %s: A %.1f C %.1f D %.1f F %.1f (plant %.0f, τ1 %.1f s)\n", c.name, m.rise_q8 / 256.0,
+                m.time_constant_q8 / 256.0, m.dead_time_q8 / 256.0, m.fan_loss_pct_q8 / 256.0, c.plant.k_c, c.plant.tau1_s);
+    EXPECT_NEAR(m.rise_q8 / 256.0, c.plant.k_c, c.plant.k_c * 0.05) << c.name;
+    EXPECT_GT(m.time_constant_q8 / 256.0, c.c_low_s) << c.name;
+    EXPECT_LT(m.time_constant_q8 / 256.0, c.c_high_s) << c.name;
+    EXPECT_TRUE(control::hotend_model_valid(m)) << c.name;  // what M307 accepts
+    control::TunedDesign d;
+    EXPECT_EQ(control::design_from_tune(at.result(), 128, &d), c.designs) << c.name;
   }
-  ASSERT_EQ(o.state, AutotuneState::kFinished);
-  const control::HotendModel& m = at.result().model;
-  std::printf("  A %.1f C %.1f D %.1f F %.1f (plant 430, lags 289.8 / 25.2 s, delay 1.2 s)\n", m.rise_q8 / 256.0,
-              m.time_constant_q8 / 256.0, m.dead_time_q8 / 256.0, m.fan_loss_pct_q8 / 256.0);
-  EXPECT_NEAR(m.rise_q8 / 256.0, 430, 430 * 0.05);
-  EXPECT_GT(m.time_constant_q8 / 256.0, 0.5 * 289.8);
-  EXPECT_LT(m.time_constant_q8 / 256.0, 1.5 * 289.8);
-  EXPECT_GT(m.dead_time_q8, 0);
-  control::TunedDesign d;
-  EXPECT_TRUE(control::design_from_tune(at.result(), 128, &d));
 }

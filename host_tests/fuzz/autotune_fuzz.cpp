@@ -56,8 +56,9 @@ lag_delay_hotend::Params hotend_from(const uint8_t* d, size_t n) {
 
 // AUTOTUNE_FUZZ_ENVELOPE=1 (a search, not CTest's run): the bytes pick a hotend inside issue 7's
 // bank envelope instead (30–80 W-class gains, τ 30–300 s, at most 16 °C/s at full power, lag plus
-// dead time ≤ 25 s, σ ≤ 0.3 °C, cold, targets the heater reaches, no disturbances), and the oracles add issue 7's promises:
-// the tune finishes, stays within S + 5 °C (plus 3 σ of reading noise) and gives a design.
+// dead time ≤ 25 s, σ ≤ 0.3 °C, cold, targets the heater reaches, no disturbances), and the
+// oracles add issue 7's promises: the tune finishes, stays within S + 5 °C (plus the noise's bound
+// and the ADC step) and gives a design.
 bool envelope_mode() {
   static const bool on = std::getenv("AUTOTUNE_FUZZ_ENVELOPE") != nullptr;
   return on;
@@ -87,7 +88,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   tune.configure(kPeriodMs);
   const bool envelope = envelope_mode();
   const lag_delay_hotend::Params params = envelope ? envelope_hotend_from(data, size) : hotend_from(data, size);
-  int32_t target_q8 = (50L + byte_at(data, size, 9)) * 256;               // 50–305 °C (> 255 refused)
+  // 50–305 °C: the engine refuses S above 275 °C, the firmware's M303 above 255 °C already (and it
+  // faults on readings beyond MINTEMP / MAXTEMP before the engine sees them): a superset.
+  int32_t target_q8 = (50L + byte_at(data, size, 9)) * 256;
   uint8_t cycles = static_cast<uint8_t>(byte_at(data, size, 10) % 24);  // 0–23 (3–20 accepted)
   if (envelope) {
     // 150 °C up to the lower of 255 °C and 75 % of the heater's reach.
@@ -138,14 +141,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   if (trace) std::fclose(trace);
   if (std::getenv("AUTOTUNE_FUZZ_STATS")) {
-    std::fprintf(stderr, "outcome state %d failure %d seconds %.0f max-S %.2f | K %.0f tau1 %.1f tau2 %.1f dead %.1f F %.2f sigma %.2f step %.2f S %.0f C%u\n",
-                 static_cast<int>(tune.state()), static_cast<int>(tune.failure()), tune.elapsed_ticks() * kPeriodS,
-                 max_reading - target_q8 / 256.0, params.k_c, params.tau1_s, params.tau2_s, params.dead_s, params.fan_loss,
-                 params.noise_c, params.quant_c, target_q8 / 256.0, static_cast<unsigned>(cycles));
+    std::fprintf(stderr, "outcome state %d failure %d seconds %.0f max-S %.2f | ", static_cast<int>(tune.state()),
+                 static_cast<int>(tune.failure()), tune.elapsed_ticks() * kPeriodS, max_reading - target_q8 / 256.0);
+    std::fprintf(stderr, "K %.0f tau1 %.1f tau2 %.1f dead %.1f F %.2f sigma %.2f step %.2f S %.0f C%u\n", params.k_c,
+                 params.tau1_s, params.tau2_s, params.dead_s, params.fan_loss, params.noise_c, params.quant_c,
+                 target_q8 / 256.0, static_cast<unsigned>(cycles));
   }
   if (envelope) {
     if (tune.state() != control::AutotuneState::kFinished) fail("an envelope hotend's tune did not finish", 0);
-    if (max_reading > target_q8 / 256.0 + 5.0 + 3.0 * params.noise_c + params.quant_c) {
+    // The noise is bounded at 2√3 σ (Irwin–Hall): 3.5 σ and the ADC step cannot trip it alone.
+    const double allowance_c = 3.5 * params.noise_c + params.quant_c;
+    if (max_reading > target_q8 / 256.0 + 5.0 + allowance_c) {
       fail("an envelope hotend's tune went above S + 5 °C", 0);
     }
   }

@@ -1711,6 +1711,8 @@ bool Autotune::compute_chunk() {
       // the lag (the FOPDT equivalent of the heat-up, as a two-point fit of it: the M307 model's
       // initial rate A/C and its delay are what its model-following heat-up relies on).
       const int32_t lag = seconds_q8(static_cast<uint16_t>(horizon_ticks_));
+      // No relay T (no cycle fitted the FOPDT formulas): each fallback below stands in unchecked.
+      const bool no_relay_t = m.time_constant_q8 <= 0;
       v.log = 0;  // x for the next step: 0 = no lag seen
       if (probe_.continuous && v.k_q8 > probe_.slope_rise_q8) {
         if (m.time_constant_q8 > 2 * lag) m.time_constant_q8 -= lag;
@@ -1721,7 +1723,7 @@ bool Autotune::compute_chunk() {
         if (2 * v.a_hi > 3 * m.time_constant_q8) {
           v.log = static_cast<int32_t>(div_q16(static_cast<uint32_t>(lag), static_cast<uint32_t>(m.time_constant_q8)));
         }
-      } else if (v.lambda > 0 && (m.time_constant_q8 <= 0 || 5 * abs32(v.lambda - m.time_constant_q8) < m.time_constant_q8)) {
+      } else if (v.lambda > 0 && (no_relay_t || 5 * abs32(v.lambda - m.time_constant_q8) < m.time_constant_q8)) {
         // The probe's C where it agrees with the relay's within 20 % (an FOPDT hotend, where the
         // probe's C is the more accurate: relay T scatters ±14 % at σ 0.1 °C; a lag's disagree by
         // ≥ 27 %), or where no relay cycle fitted the FOPDT formulas (T 0: a lag-heavy hotend on a
@@ -1737,8 +1739,8 @@ bool Autotune::compute_chunk() {
         // bound in simavr). On FOPDT hotends the two agree within 1.3 × and the relay's is kept.
         // seconds per bin (q8) < 2^9, × 2^16 < 2^25; ÷ 1/T (Q16, ≥ 1).
         const uint32_t t_loss = div_q16(static_cast<uint32_t>(seconds_q8(kTicksPerBin)), inv_t_nofan_q16_);
-        // (t_loss < 2^25: × 3 fits; a relay T ≤ 0 is no reading at all.)
-        if (m.time_constant_q8 <= 0 || 2 * static_cast<uint32_t>(m.time_constant_q8) > 3 * t_loss) {
+        // (t_loss < 2^25: × 3 fits.)
+        if (no_relay_t || 2 * static_cast<uint32_t>(m.time_constant_q8) > 3 * t_loss) {
           m.time_constant_q8 = static_cast<int32_t>(t_loss);
         }
       } else if (slope_q8_ > 0 && !hot_start_) {
@@ -1750,7 +1752,7 @@ bool Autotune::compute_chunk() {
         // K < 2^19, × (s × 256 per bin) < 2^10: < 2^29.
         const uint32_t num = static_cast<uint32_t>(v.k_q8) * static_cast<uint32_t>(seconds_q8(kTicksPerBin));
         const int32_t t_s = static_cast<int32_t>((num + static_cast<uint32_t>(slope_q8_) / 2) / static_cast<uint32_t>(slope_q8_));
-        if (t_s > 0 && (m.time_constant_q8 <= 0 || 4 * t_s < 3 * m.time_constant_q8)) m.time_constant_q8 = t_s;
+        if (t_s > 0 && (no_relay_t || 4 * t_s < 3 * m.time_constant_q8)) m.time_constant_q8 = t_s;
       }
       return false;
     }

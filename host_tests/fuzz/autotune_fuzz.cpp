@@ -111,7 +111,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // 4.5 × the 30-minute timeout: the engine may stretch its limit to 4 × (autotune.h).
   const uint32_t limit = static_cast<uint32_t>(4.5 * 1800 / kPeriodS);
   // To look into one input: AUTOTUNE_FUZZ_TRACE=file.csv writes s, reading, duty, fan, phase.
-  FILE* trace = std::getenv("AUTOTUNE_FUZZ_TRACE") ? std::fopen(std::getenv("AUTOTUNE_FUZZ_TRACE"), "w") : nullptr;
+  const char* trace_path = std::getenv("AUTOTUNE_FUZZ_TRACE");
+  FILE* trace = trace_path ? std::fopen(trace_path, "w") : nullptr;
   for (uint32_t step = 0;; ++step) {
     if (step > limit) fail("the tune outlasted its time limit", step);
     // Disturbances, 4 bytes each from byte 13: start in 8-period units, offset in ½ °C, length

@@ -554,6 +554,7 @@ void Autotune::start_probe() {
   p.slope_rise_q8 = INT32_MIN;  // the smoothed peak until the probe takes the tangent path
   p.area_q8 = 0;
   p.fit_r_q8 = 0;
+  p.lag_q4 = 0;
   scratch_.heat[0].centre = scratch_.heat[1].centre = 0;
   probe_max_q8_ = INT32_MIN;
   duty_q16_ = kFull;
@@ -571,6 +572,10 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
   if (stage == 6) {
     lag_fit_stage();
     return 20;
+  }
+  if (stage == 7) {
+    flight_stage();
+    return 0;
   }
   const uint16_t k = bins_;  // bin k covers probe ticks (8(k − 1), 8k]
   if (stage == 3) {
@@ -664,6 +669,25 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     const int32_t horizon = 2 * p.det_bin + 4;
     const bool steepening = k - p.slope_max_bin < 3 || k < p.det_bin + 3;
     const bool safe = y_bin_q8_ + slope * horizon < target_q8_ - 10 * kQ8 && p.on_ticks < t40_;
+    // A sensor lag behind a strong heater: the heat in flight would carry the reading near the
+    // target even if the heater went off now. Cut now (a cut probe, whose lag rule then
+    // approaches on D + τ2), not on into the tangent path, whose dead time falls far short of
+    // such a lag (8.8 bins against 24 for τ2 25 s). The heat in flight is the block's rise less
+    // the reading's, a·t − y: τ·ẏ once the lag is measured (flight_stage, from the last bin; a
+    // quarter added, as the block's own loss bends its heat-up and τ reads up to 20 % short),
+    // else at the 20 °C/s the first pulse assumes: while the response still rises as t² the data
+    // bound a/τ only, not a (K 1,300 °C, τ1 150 s, τ2 25 s: heated 24 s past the cap, S + 25 °C).
+    // ms < 2^16 · 2000; ÷25 · 128 < 2^30.
+    const uint32_t on_ms = uint32_t{p.on_ticks} * period_ms_;
+    const int32_t flight = p.lag_q4 != 0 ? (slope * p.lag_q4) >> 4 : static_cast<int32_t>(on_ms / 25u * 128u) - p.dev_q8;
+    if (y_bin_q8_ + flight + div2n(flight, 2) >= target_q8_ - 10 * kQ8) {
+      p.extend = false;
+      if (p.on_ticks >= p.cap_ticks) {
+        heater_on_ = false;
+        p.off_tick = probe_ticks_;
+      }
+      return 0;
+    }
     p.extend = steepening && safe;
     if (!p.extend && p.slope_max_q8 > 0 && (p.on_ticks >= p.cap_ticks || !steepening)) {
       p.continuous = true;
@@ -674,7 +698,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
       appr_.full_bins = static_cast<uint8_t>(p.on_ticks / kTicksPerBin > 250 ? 250 : p.on_ticks / kTicksPerBin);
       return 2;
     }
-    return 0;
+    return 7;
   }
   const uint16_t since_off = static_cast<uint16_t>(probe_ticks_ - p.off_tick);
   if (!p.detected) {
@@ -757,6 +781,33 @@ __attribute__((noinline)) void Autotune::lag_fit_stage() {
   if (p.fit_p_q6 > 0 && 8 * den > p.dev_prev_q8) p.fit_r_q8 = den;
 }
 
+// The sensor's lag while the probe heats on (for its next bin's heat in flight): at full power
+// from rest an integrating block read through a first-order sensor lag τ obeys y + τ·ẏ = a·t (a
+// dead time D reads as τ + D), so two heat-up points (this bin's centre and an earlier
+// power-of-two one, as lag_fit_stage takes them) give τ = (y_a·t_b − y_b·t_a)/(ẏ_b·t_a − ẏ_a·t_b),
+// and the heat in flight is τ·ẏ (block loss only lowers it). t in half bins (< 2^9), rises
+// < 2^17, slopes < 2^15: num < 2^26, den < 2^25, 16·num < 2^30; τ capped at 255 bins (× ẏ < 2^27).
+// Kept once measured (a later bin's noise cannot drop it back to the 20 °C/s bound).
+// Envelope hotends (autotune_fuzz): K 1,284 °C, τ1 88 s, τ2 18 s, D 1 s read τ 17–20 bins.
+__attribute__((noinline)) void Autotune::flight_stage() {
+  Probe& p = near(probe_);
+  const uint16_t ca = static_cast<uint16_t>(bins_ - 1);
+  const HeatSample& b = 3u * scratch_.heat[1].centre <= 2u * ca ? scratch_.heat[1] : scratch_.heat[0];
+  const int32_t slope_a = div2n(p.dev_q8 - p.dev_prev2_q8, 1);
+  if (ca > 255 || b.centre < 2 || b.slope_q8 <= 0 || slope_a <= 0) return;
+  const int32_t ta = 2 * static_cast<int32_t>(ca) - 1;
+  const int32_t tb = 2 * static_cast<int32_t>(b.centre) - 1;
+  const int32_t num = p.dev_prev_q8 * tb - b.dev_q8 * ta;
+  const int32_t den = b.slope_q8 * ta - slope_a * tb;
+  // Early on (the slope still nearly ∝ t) den is a small difference of large terms: its noise
+  // read a 4 s lag as 4,679 bins and cut a 3.5 °C/s hotend's pulse (tune 180 → 489 s). Only
+  // where the slope has visibly levelled off: den ≥ ẏ_b·t_a/16 (< 2^24; the 18 s lag above reads
+  // ≥ 1/10 of it from 12 s on).
+  if (num <= 0 || 16 * den < b.slope_q8 * ta) return;
+  const int32_t tau_q4 = 16 * num / den;
+  p.lag_q4 = static_cast<uint16_t>(tau_q4 > 4080 ? 4080 : (tau_q4 < 1 ? 1 : tau_q4));
+}
+
 // The model's history restarts from the reading now, x(now − L̂) = rise, with the last `on` of
 // the L̂ bins at full power and the present loss 1/T: model_anchor writes entry j as it is first
 // read. Returns (1 − 1/T)^hb (Q16, 65536 without loss), the power by squaring (≤ 12 multiplies;
@@ -803,12 +854,15 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
     // learning and hand-over) and takes 2/5 of the L̂ model's heat in flight plus 3/5 of the last
     // D's (step 6). On L̂ the predictor over-predicted it: heavy-slow's full power (D 5 s, L̂ 66 s)
     // cut 80 °C short and its P law crawled (approach 1,038 s); two-node-delay5's (7 s, 22 s) P
-    // law crawled the last 10 °C. The relay, the time limits and compute keep L̂. Only on a quiet
-    // sensor: at σ 0.5 °C a loss learnt at full power a third high carried the faster P law to
-    // S + 6..7.6 °C (heavy-slow, two-node-delay5), 1–2 °C before.
+    // law crawled the last 10 °C. The relay, the time limits and compute keep L̂. Not on a noisy
+    // sensor (measured σ above 0.3 °C): at σ 0.5 °C a loss learnt at full power a third high carried
+    // the faster P law to S + 6..7.6 °C (heavy-slow, two-node-delay5), 1–2 °C before. Up to σ 0.3
+    // it is needed: at σ 0.15–0.3 on L̂ a lag-type hotend's P law parked up to S + 16 °C (issue 7's
+    // envelope, autotune_fuzz: 17 of 600 sampled hotends, all within S + 2.3 °C after; heavy-slow
+    // at σ 0.2 tuned in 1,061 s instead of 1,599).
     const uint16_t det_bin = near(probe_).det_bin;
     ap.lag_probe = !probe_.continuous && !hot_start_ && probe_.retries == 0 && probe_.max_tick == 0 &&
-                   noise_q8_ <= kQuietNoiseQ8 && 2 * horizon_ticks_ > 3 * kTicksPerBin * static_cast<int32_t>(det_bin);
+                   noise_q8_ <= kNoisyQ8 && 2 * horizon_ticks_ > 3 * kTicksPerBin * static_cast<int32_t>(det_bin);
     ap.det_bins = static_cast<uint8_t>(det_bin < horizon_bins_ ? det_bin + 1 : horizon_bins_);
     // ÷5 (rounded up) as ·13108/2^16, exact for numerators < 2^14 (here ≤ 354; a division costs ~200
     // cycles).
@@ -1203,8 +1257,14 @@ uint8_t Autotune::relay_stage(uint8_t stage) {
   return 0;
 }
 
+// Levels bias ± d within 0..100 %. A bias under the smallest d says nothing of the steady duty
+// (an approach that held the target with the heater off, its loss never learnt): it becomes d,
+// levels 0 and 2d, which must straddle the steady duty. (Before, d = 0.5 % above a bias of 0.2 %
+// wrapped the low level bias − d to 99.7 %: full power in the low half, a 4 °C/s hotend heated
+// from S to the S + 25 °C abort. Levels 0 and 1 % then held no oscillation.)
 void Autotune::set_levels() {
-  if (d_q16_ > bias_q16_) d_q16_ = bias_q16_ < kMinDutyStepQ16 ? kMinDutyStepQ16 : bias_q16_;
+  if (bias_q16_ < kMinDutyStepQ16) bias_q16_ = d_q16_;
+  if (d_q16_ > bias_q16_) d_q16_ = bias_q16_;
   if (d_q16_ > kFull - bias_q16_) d_q16_ = static_cast<uint16_t>(kFull - bias_q16_);
 }
 

@@ -185,6 +185,7 @@ class Autotune {
   uint8_t probe_stage(uint8_t stage);
   void heat_sample(uint16_t k, int32_t slope);
   void lag_fit_stage();
+  void flight_stage();
   int32_t lag_sigma_q6(int32_t k_q8) const;
   uint8_t begin_stage(uint8_t stage);
   uint8_t approach_stage(uint8_t stage);
@@ -327,6 +328,7 @@ class Autotune {
     int32_t fit_p_q6;        // bins × 64
     int32_t fit_q_q8;        // °C × 256 × bins
     int32_t fit_r_q8;        // °C × 256
+    uint16_t lag_q4;         // the heat-up's lag τ (flight_stage), bins × 16; 0: not measured yet
   };
   // A point of the heat-up at full power (bin centre, in bins since the pulse began; the tangent
   // path's lag fit): its rise above the baseline, slope per bin and integral since the pulse began.

@@ -954,3 +954,84 @@ TEST(Autotune, NoFopdtRelayCycleStillGivesATimeConstant) {
     EXPECT_EQ(control::design_from_tune(at.result(), 128, &d), c.designs) << c.name;
   }
 }
+
+// Hotends from autotune_fuzz's envelope search (AUTOTUNE_FUZZ_ENVELOPE=1, the parameters as it
+// draws them from its bytes, named by their first three), tuned by the engine at 128 ms as the
+// fuzzer does; each must finish within S + 5 °C.
+struct EnvelopeCase {
+  const char* name;
+  double k_c, tau1_s, tau2_s, dead_s, fan_loss, noise_c, quant_c, ambient_c;
+  uint32_t noise_seed;
+  int32_t target_q8;
+  uint8_t cycles;
+  bool fan;
+};
+
+void expect_envelope_tune(const EnvelopeCase& c) {
+  lag_delay_hotend::Params p;
+  p.k_c = c.k_c;
+  p.tau1_s = c.tau1_s;
+  p.tau2_s = c.tau2_s;
+  p.dead_s = c.dead_s;
+  p.fan_loss = c.fan_loss;
+  p.noise_c = c.noise_c;
+  p.quant_c = c.quant_c;
+  p.ambient_c = c.ambient_c;
+  p.noise_seed = c.noise_seed;
+  lag_delay_hotend::Hotend hotend(p, kPeriodS);
+  Autotune at;
+  at.configure(128);
+  ASSERT_TRUE(at.start(c.target_q8, c.cycles, c.fan)) << c.name;
+  control::AutotuneOutput o{};
+  double max_c = -1e9;
+  for (int i = 0; i < 80000; ++i) {
+    const double y = hotend.reading();
+    max_c = std::fmax(max_c, y);
+    o = at.step(static_cast<int32_t>(std::lround(y * 256)));
+    if (o.state != AutotuneState::kRunning) break;
+    hotend.run(o.duty_q16 / 65535.0, o.fan_duty / 255.0);
+  }
+  const double target_c = c.target_q8 / 256.0;
+  std::printf("  %s (K %.0f, τ1 %.1f s, τ2 %.1f s, D %.1f s, σ %.2f °C, S %.0f): %s, max S %+.2f °C, %.0f s\n", c.name,
+              c.k_c, c.tau1_s, c.tau2_s, c.dead_s, c.noise_c, target_c,
+              o.state == AutotuneState::kFinished ? "finished" : "failed", max_c - target_c,
+              at.elapsed_ticks() * kPeriodS);
+  EXPECT_EQ(o.state, AutotuneState::kFinished) << c.name;
+  EXPECT_LE(max_c, target_c + 5.0) << c.name;
+}
+
+// A cut probe on a lag-type hotend (a 5–17 s sensor lag and a few seconds of dead time) read
+// through σ 0.17–0.25 °C noise ran its approach on the cut-to-peak time L̂, as on a dead-time
+// hotend, and its P law parked 6–16 °C above S; on a quiet sensor the lag rule (D + τ2) served.
+// It now serves up to σ 0.3 °C.
+TEST(Autotune, LagTypeHotendOnANoisySensorApproachesOnItsLag) {
+  const EnvelopeCase cases[] = {
+      {"7b5134", 782.353, 62.3138, 17.4294, 4.46468, 0.554118, 0.176471, 0.151765, 34.1373, 20, 43776, 19, true},
+      {"997467", 900, 85.4593, 10.1894, 6.90468, 0.570588, 0.244706, 0.141176, 23.549, 200, 52420, 4, true},
+      {"c7821c", 1080.39, 96.9682, 15.0496, 1.85633, 0.130588, 0.222353, 0.183529, 31.6275, 109, 63277, 20, true},
+      {"3c1540", 535.294, 36.2599, 14.3547, 4.80997, 0.274118, 0.252941, 0.134118, 25.7451, 37, 43038, 3, false},
+      {"562846", 637.255, 43.0421, 11.3091, 4.27912, 0.587059, 0.22, 0.297647, 17.5882, 137, 63488, 6, false},
+      {"a08681", 927.451, 100.532, 7.74893, 7.93343, 0.685882, 0.249412, 0.00705882, 26.7647, 220, 54001, 9, false},
+      {"dc6f8e", 1162.75, 81.6888, 8.03382, 10.0956, 0.695294, 0.169412, 0.154118, 21.902, 203, 46095, 3, true}};
+  for (const EnvelopeCase& c : cases) expect_envelope_tune(c);
+}
+
+// A strong heater (8.7–14.6 °C/s) behind an 18–25 s sensor lag: the probe heated on past its cap
+// while the slope still rose, its horizon (2 × the detection time + 4 s) blind to the heat in
+// flight, and handed over to the tangent path; the reading then went to S + 22–25 °C (two of the
+// three ended at the S + 25 °C abort). The probe now cuts once the heat in flight (measured, or at
+// 20 °C/s while unmeasurable) would carry the reading near the target.
+TEST(Autotune, StrongHeaterBehindALongSensorLagCutsItsProbe) {
+  const EnvelopeCase cases[] = {
+      {"ffb200", 1300, 149.539291, 25, 0, 0.335294118, 0.0494117647, 0.0470588235, 25.0392157, 7, 51893, 5, true},
+      {"998500", 900, 99.6293177, 25, 0, 0.335294118, 0.249411765, 0.0470588235, 25.0392157, 7, 51893, 5, true},
+      {"fb770e", 1284.31373, 87.8045581, 18.0235755, 1.04701269, 0.172941176, 0.247058824, 0.0505882353, 24.9607843, 20, 62856, 9, true}};
+  for (const EnvelopeCase& c : cases) expect_envelope_tune(c);
+}
+
+// An approach that held the target with the heater off (its loss never learnt, ū = 0) started the
+// relay at a bias of 0.2 %, under the smallest d: the low level bias − d wrapped to 99.7 %, and
+// the relay's first (low) half heated from S to the S + 25 °C abort.
+TEST(Autotune, RelayLowLevelNeverWrapsToFullPower) {
+  expect_envelope_tune({"ffff00", 1300, 299.599332, 10.0352941, 0, 0.335294118, 0.0494117647, 0.0470588235, 25.0392157, 7, 51893, 5, true});
+}

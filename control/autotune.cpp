@@ -555,6 +555,7 @@ void Autotune::start_probe() {
   p.area_q8 = 0;
   p.fit_r_q8 = 0;
   p.lag_q4 = 0;
+  appr_.lag_q4 = 0;
   scratch_.heat[0].centre = scratch_.heat[1].centre = 0;
   probe_max_q8_ = INT32_MIN;
   duty_q16_ = kFull;
@@ -567,6 +568,13 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
   if (stage == 2) {
     // Tangent dead time: L = t − rise/S at the steepest point (one division).
     horizon_ticks_ = p.max_centre_tick - p.slope_max_dev_q8 * kTicksPerBin / slope_q8_;
+    // Taken before a long sensor lag had filled, the tangent's dead time falls short of the lag
+    // the heat-up measured (flight_stage: τ2 20 s read 15.7 bins, the tangent 8.5), and the
+    // approach's predictor with it (S + 5..25 °C). Where the measured lag is over 1.5 × the
+    // tangent's (the bank's lag-type plants: 0.9–1.2 ×), the approach takes the heat in flight
+    // behind it too (stage 6). L̂ stays the tangent's: the relay and compute read it, and on a
+    // two-lag hotend (60 / 30 s) the lag, which takes the block for an integrator, reads long.
+    appr_.lag_q4 = int32_t{p.lag_q4} > 3 * horizon_ticks_ ? p.lag_q4 : 0;
     return 6;
   }
   if (stage == 6) {
@@ -1118,6 +1126,12 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // (A lag probe's heat in flight: 2/5 of the L̂ model's + 3/5 of the last D's; each < 2^20.)
       int32_t in_flight = model_ago(0) - model_delayed();
       if (ap.lag_probe && bins_ > ap.det_bins) in_flight = fixed::mul_q16(in_flight, 26214) + ap.det_flight_q8;
+      // Behind a first-order sensor lag τ the block leads the reading by τ·ẏ at any duty (the
+      // 4-bin slope < 2^15 per bin, × τ < 2^12 bins × 16).
+      if (ap.lag_q4 != 0) {
+        const int32_t lag_flight = (slope4_q8() * ap.lag_q4) >> 4;
+        if (lag_flight > in_flight) in_flight = lag_flight;
+      }
       const int32_t predicted = y_bin_q8_ + in_flight;
       int32_t ex = fixed::clamp(target_q8_ - predicted, -200 * kQ8, 200 * kQ8);
       if (untrusted_) {

@@ -377,6 +377,7 @@ class Autotune {
     uint8_t det_bins;        // D: the probe's pulse-to-response time in bins
     int32_t det_flight_q8;   // 3/5 of the model's rise over the last D bins (stage 1 for stage 6)
     bool overshot;           // the reading went 1 °C past the target (no relay without a settling cycle)
+    uint16_t lag_q4;         // a continuous probe's measured lag where it is over 1.5 × L̂ (bins × 16), else 0
   };
   Approach appr_ = {};
   int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)

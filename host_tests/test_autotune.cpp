@@ -1029,6 +1029,17 @@ TEST(Autotune, StrongHeaterBehindALongSensorLagCutsItsProbe) {
   for (const EnvelopeCase& c : cases) expect_envelope_tune(c);
 }
 
+// A probe that handed over to the tangent path on a 16–20 s sensor lag (the slope looked steady):
+// the tangent's dead time (8.5 bins on the first) fell short of the lag, the approach's
+// predictor took too little heat for in flight, and the relay went to S + 13..18 °C. The approach
+// now also takes the lag the heat-up measured (τ·ẏ) where it is over 1.5 × the tangent's.
+TEST(Autotune, ContinuousProbeApproachesOnTheMeasuredLag) {
+  const EnvelopeCase cases[] = {
+      {"99b200", 900, 149.539291, 20.0117647, 0, 0.335294118, 0.0494117647, 0.0470588235, 25.0392157, 7, 51893, 5, true},
+      {"cf9b01", 1111.76471, 121.50988, 15.7146021, 0.0618685121, 0.631764706, 0.112941176, 0.0105882353, 28.3333333, 80, 54212, 6, false}};
+  for (const EnvelopeCase& c : cases) expect_envelope_tune(c);
+}
+
 // An approach that held the target with the heater off (its loss never learnt, ū = 0) started the
 // relay at a bias of 0.2 %, under the smallest d: the low level bias − d wrapped to 99.7 %, and
 // the relay's first (low) half heated from S to the S + 25 °C abort.

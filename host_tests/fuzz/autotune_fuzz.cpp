@@ -58,7 +58,8 @@ lag_delay_hotend::Params hotend_from(const uint8_t* d, size_t n) {
 // bank envelope instead (30–80 W-class gains, τ 30–300 s, at most 16 °C/s at full power, lag plus
 // dead time ≤ 25 s, σ ≤ 0.3 °C, cold, targets the heater reaches, no disturbances), and the
 // oracles add issue 7's promises: the tune finishes, stays within S + 5 °C (plus the noise's bound
-// and the ADC step) and gives a design.
+// and the ADC step) and gives a design. host_tests/fuzz/envelope_survey.py runs it over uniform
+// draws and a grid of the envelope's hardest corner and prints the pass table.
 bool envelope_mode() {
   static const bool on = std::getenv("AUTOTUNE_FUZZ_ENVELOPE") != nullptr;
   return on;

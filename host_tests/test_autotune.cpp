@@ -960,24 +960,14 @@ TEST(Autotune, NoFopdtRelayCycleStillGivesATimeConstant) {
 // fuzzer does; each must finish within S + 5 °C.
 struct EnvelopeCase {
   const char* name;
-  double k_c, tau1_s, tau2_s, dead_s, fan_loss, noise_c, quant_c, ambient_c;
-  uint32_t noise_seed;
+  lag_delay_hotend::Params plant;  // K, τ1, τ2, delay, fan loss, σ, ADC step, ambient, start rise, seed
   int32_t target_q8;
   uint8_t cycles;
   bool fan;
 };
 
 void expect_envelope_tune(const EnvelopeCase& c) {
-  lag_delay_hotend::Params p;
-  p.k_c = c.k_c;
-  p.tau1_s = c.tau1_s;
-  p.tau2_s = c.tau2_s;
-  p.dead_s = c.dead_s;
-  p.fan_loss = c.fan_loss;
-  p.noise_c = c.noise_c;
-  p.quant_c = c.quant_c;
-  p.ambient_c = c.ambient_c;
-  p.noise_seed = c.noise_seed;
+  const lag_delay_hotend::Params& p = c.plant;
   lag_delay_hotend::Hotend hotend(p, kPeriodS);
   Autotune at;
   at.configure(128);
@@ -993,7 +983,7 @@ void expect_envelope_tune(const EnvelopeCase& c) {
   }
   const double target_c = c.target_q8 / 256.0;
   std::printf("  %s (K %.0f, τ1 %.1f s, τ2 %.1f s, D %.1f s, σ %.2f °C, S %.0f): %s, max S %+.2f °C, %.0f s\n", c.name,
-              c.k_c, c.tau1_s, c.tau2_s, c.dead_s, c.noise_c, target_c,
+              p.k_c, p.tau1_s, p.tau2_s, p.dead_s, p.noise_c, target_c,
               o.state == AutotuneState::kFinished ? "finished" : "failed", max_c - target_c,
               at.elapsed_ticks() * kPeriodS);
   EXPECT_EQ(o.state, AutotuneState::kFinished) << c.name;
@@ -1006,13 +996,13 @@ void expect_envelope_tune(const EnvelopeCase& c) {
 // It now serves up to σ 0.3 °C.
 TEST(Autotune, LagTypeHotendOnANoisySensorApproachesOnItsLag) {
   const EnvelopeCase cases[] = {
-      {"7b5134", 782.353, 62.3138, 17.4294, 4.46468, 0.554118, 0.176471, 0.151765, 34.1373, 20, 43776, 19, true},
-      {"997467", 900, 85.4593, 10.1894, 6.90468, 0.570588, 0.244706, 0.141176, 23.549, 200, 52420, 4, true},
-      {"c7821c", 1080.39, 96.9682, 15.0496, 1.85633, 0.130588, 0.222353, 0.183529, 31.6275, 109, 63277, 20, true},
-      {"3c1540", 535.294, 36.2599, 14.3547, 4.80997, 0.274118, 0.252941, 0.134118, 25.7451, 37, 43038, 3, false},
-      {"562846", 637.255, 43.0421, 11.3091, 4.27912, 0.587059, 0.22, 0.297647, 17.5882, 137, 63488, 6, false},
-      {"a08681", 927.451, 100.532, 7.74893, 7.93343, 0.685882, 0.249412, 0.00705882, 26.7647, 220, 54001, 9, false},
-      {"dc6f8e", 1162.75, 81.6888, 8.03382, 10.0956, 0.695294, 0.169412, 0.154118, 21.902, 203, 46095, 3, true}};
+      {"7b5134", {782.353, 62.3138, 17.4294, 4.46468, 0.554118, 0.176471, 0.151765, 34.1373, 0, 20}, 43776, 19, true},
+      {"997467", {900, 85.4593, 10.1894, 6.90468, 0.570588, 0.244706, 0.141176, 23.549, 0, 200}, 52420, 4, true},
+      {"c7821c", {1080.39, 96.9682, 15.0496, 1.85633, 0.130588, 0.222353, 0.183529, 31.6275, 0, 109}, 63277, 20, true},
+      {"3c1540", {535.294, 36.2599, 14.3547, 4.80997, 0.274118, 0.252941, 0.134118, 25.7451, 0, 37}, 43038, 3, false},
+      {"562846", {637.255, 43.0421, 11.3091, 4.27912, 0.587059, 0.22, 0.297647, 17.5882, 0, 137}, 63488, 6, false},
+      {"a08681", {927.451, 100.532, 7.74893, 7.93343, 0.685882, 0.249412, 0.00705882, 26.7647, 0, 220}, 54001, 9, false},
+      {"dc6f8e", {1162.75, 81.6888, 8.03382, 10.0956, 0.695294, 0.169412, 0.154118, 21.902, 0, 203}, 46095, 3, true}};
   for (const EnvelopeCase& c : cases) expect_envelope_tune(c);
 }
 
@@ -1023,9 +1013,9 @@ TEST(Autotune, LagTypeHotendOnANoisySensorApproachesOnItsLag) {
 // 20 °C/s while unmeasurable) would carry the reading near the target.
 TEST(Autotune, StrongHeaterBehindALongSensorLagCutsItsProbe) {
   const EnvelopeCase cases[] = {
-      {"ffb200", 1300, 149.539291, 25, 0, 0.335294118, 0.0494117647, 0.0470588235, 25.0392157, 7, 51893, 5, true},
-      {"998500", 900, 99.6293177, 25, 0, 0.335294118, 0.249411765, 0.0470588235, 25.0392157, 7, 51893, 5, true},
-      {"fb770e", 1284.31373, 87.8045581, 18.0235755, 1.04701269, 0.172941176, 0.247058824, 0.0505882353, 24.9607843, 20, 62856, 9, true}};
+      {"ffb200", {1300, 149.539291, 25, 0, 0.335294118, 0.0494117647, 0.0470588235, 25.0392157, 0, 7}, 51893, 5, true},
+      {"998500", {900, 99.6293177, 25, 0, 0.335294118, 0.249411765, 0.0470588235, 25.0392157, 0, 7}, 51893, 5, true},
+      {"fb770e", {1284.31373, 87.8045581, 18.0235755, 1.04701269, 0.172941176, 0.247058824, 0.0505882353, 24.9607843, 0, 20}, 62856, 9, true}};
   for (const EnvelopeCase& c : cases) expect_envelope_tune(c);
 }
 
@@ -1035,8 +1025,8 @@ TEST(Autotune, StrongHeaterBehindALongSensorLagCutsItsProbe) {
 // now also takes the lag the heat-up measured (τ·ẏ) where it is over 1.5 × the tangent's.
 TEST(Autotune, ContinuousProbeApproachesOnTheMeasuredLag) {
   const EnvelopeCase cases[] = {
-      {"99b200", 900, 149.539291, 20.0117647, 0, 0.335294118, 0.0494117647, 0.0470588235, 25.0392157, 7, 51893, 5, true},
-      {"cf9b01", 1111.76471, 121.50988, 15.7146021, 0.0618685121, 0.631764706, 0.112941176, 0.0105882353, 28.3333333, 80, 54212, 6, false}};
+      {"99b200", {900, 149.539291, 20.0117647, 0, 0.335294118, 0.0494117647, 0.0470588235, 25.0392157, 0, 7}, 51893, 5, true},
+      {"cf9b01", {1111.76471, 121.50988, 15.7146021, 0.0618685121, 0.631764706, 0.112941176, 0.0105882353, 28.3333333, 0, 80}, 54212, 6, false}};
   for (const EnvelopeCase& c : cases) expect_envelope_tune(c);
 }
 
@@ -1044,5 +1034,5 @@ TEST(Autotune, ContinuousProbeApproachesOnTheMeasuredLag) {
 // relay at a bias of 0.2 %, under the smallest d: the low level bias − d wrapped to 99.7 %, and
 // the relay's first (low) half heated from S to the S + 25 °C abort.
 TEST(Autotune, RelayLowLevelNeverWrapsToFullPower) {
-  expect_envelope_tune({"ffff00", 1300, 299.599332, 10.0352941, 0, 0.335294118, 0.0494117647, 0.0470588235, 25.0392157, 7, 51893, 5, true});
+  expect_envelope_tune({"ffff00", {1300, 299.599332, 10.0352941, 0, 0.335294118, 0.0494117647, 0.0470588235, 25.0392157, 0, 7}, 51893, 5, true});
 }

@@ -900,6 +900,22 @@ TEST(Autotune, FanThatDoesNotCoolEndsTheStepBeforeTargetPlus5) {
   }
 }
 
+// Steps a started tune at 128 ms on a lag_delay_hotend, as autotune_fuzz does, until it ends (at
+// most 80,000 periods); returns its last output and the highest reading in *max_c.
+control::AutotuneOutput tune_lag_delay_hotend(Autotune& at, const lag_delay_hotend::Params& p, double* max_c) {
+  lag_delay_hotend::Hotend hotend(p, kPeriodS);
+  control::AutotuneOutput o{};
+  *max_c = -1e9;
+  for (int i = 0; i < 80000; ++i) {
+    const double y = hotend.reading();
+    *max_c = std::fmax(*max_c, y);
+    o = at.step(static_cast<int32_t>(std::lround(y * 256)));
+    if (o.state != AutotuneState::kRunning) break;
+    hotend.run(o.duty_q16 / 65535.0, o.fan_duty / 255.0);
+  }
+  return o;
+}
+
 // autotune_fuzz's findings: tunes whose relay cycles all miss the FOPDT formulas (no relay T)
 // finished with C = 0, a model M307 refuses, though the probe had one; the probe's C, else K/S,
 // now stands in. (a) a lag-heavy hotend (two lags 290 s and 25 s) on a quantised sensor (0.2 °C
@@ -932,16 +948,11 @@ TEST(Autotune, NoFopdtRelayCycleStillGivesATimeConstant) {
   const NoRelayTCase cases[] = {{"lag-heavy, quantised", lag_heavy, 210, 5, 0.5 * 289.8, 1.5 * 289.8, true},
                                 {"slow block at 70 °C", slow, 70, 11, 0.9 * 2497.4, 1.1 * 2497.4, false}};
   for (const NoRelayTCase& c : cases) {
-    lag_delay_hotend::Hotend hotend(c.plant, kPeriodS);
     Autotune at;
     at.configure(128);
     ASSERT_TRUE(at.start(c.target_c * 256, c.cycles, true)) << c.name;
-    control::AutotuneOutput o{};
-    for (int i = 0; i < 80000; ++i) {
-      o = at.step(static_cast<int32_t>(std::lround(hotend.reading() * 256)));
-      if (o.state != AutotuneState::kRunning) break;
-      hotend.run(o.duty_q16 / 65535.0, o.fan_duty / 255.0);
-    }
+    double max_c = 0;
+    const control::AutotuneOutput o = tune_lag_delay_hotend(at, c.plant, &max_c);
     ASSERT_EQ(o.state, AutotuneState::kFinished) << c.name;
     const control::HotendModel& m = at.result().model;
     std::printf("  %s: A %.1f C %.1f D %.1f F %.1f (plant %.0f, τ1 %.1f s)\n", c.name, m.rise_q8 / 256.0,
@@ -968,19 +979,11 @@ struct EnvelopeCase {
 
 void expect_envelope_tune(const EnvelopeCase& c) {
   const lag_delay_hotend::Params& p = c.plant;
-  lag_delay_hotend::Hotend hotend(p, kPeriodS);
   Autotune at;
   at.configure(128);
   ASSERT_TRUE(at.start(c.target_q8, c.cycles, c.fan)) << c.name;
-  control::AutotuneOutput o{};
-  double max_c = -1e9;
-  for (int i = 0; i < 80000; ++i) {
-    const double y = hotend.reading();
-    max_c = std::fmax(max_c, y);
-    o = at.step(static_cast<int32_t>(std::lround(y * 256)));
-    if (o.state != AutotuneState::kRunning) break;
-    hotend.run(o.duty_q16 / 65535.0, o.fan_duty / 255.0);
-  }
+  double max_c = 0;
+  const control::AutotuneOutput o = tune_lag_delay_hotend(at, p, &max_c);
   const double target_c = c.target_q8 / 256.0;
   std::printf("  %s (K %.0f, τ1 %.1f s, τ2 %.1f s, D %.1f s, σ %.2f °C, S %.0f): %s, max S %+.2f °C, %.0f s\n", c.name,
               p.k_c, p.tau1_s, p.tau2_s, p.dead_s, p.noise_c, target_c,

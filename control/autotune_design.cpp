@@ -128,14 +128,20 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   const uint32_t l = static_cast<uint32_t>(l_q8);
   const uint32_t t_pid_q8 = static_cast<uint32_t>(out->model.time_constant_q8);
 
-  // Kp = 255·T/(K·3L) in M301 units. ratio = 255·256·T/L ≤ 65,280·921,600/128 < 2^32 (T ≤ 3600 s,
-  // L ≥ 0.5 s); kp_q16 = ratio·2^16/(3·K_q8): Kp·2^16 < 2^32 whenever Kp < 65,536 — far above
-  // Pid's limit, and mul_div_u32 needs only the quotient to fit.
+  // τc = 2L (smooth), or τc = L (tight) on fitted lags: there D is the two-point stand-in for a
+  // second lag, not a dead time, and the smooth PI's integral (Ti = C ≈ 600 / 1,180 s) left
+  // seed000-4 0.7 °C low after 1,350 s and seed000-5 not back within ±1 °C 1,400 s after the
+  // fan step (simavr, HIL3's limits; docs/autotune.md, "The PID family on seed000").
+  // Kp = 255·T/(K·(τc + L)) in M301 units. ratio = 255·256·T/L ≤ 65,280·921,600/128 < 2^32
+  // (T ≤ 3600 s, L ≥ 0.5 s); kp_q16 = ratio·2^16/(n·K_q8), n = 3 or 2: Kp·2^16 < 2^32 whenever
+  // Kp < 65,536 — far above Pid's limit, and mul_div_u32 needs only the quotient to fit.
+  const uint32_t n = fitted ? 2UL : 3UL;  // (τc + L)/L
   const uint32_t ratio = fixed::mul_div_u32(t_pid_q8, 255UL * 256UL, l);
-  const uint32_t kp_q16 = fixed::mul_div_u32(ratio, 65536UL, 3UL * k_q8);
+  const uint32_t kp_q16 = fixed::mul_div_u32(ratio, 65536UL, n * k_q8);
   if (kp_q16 > static_cast<uint32_t>(Pid::kMaxKpQ16)) return false;
-  // Ti = min(T, 4·(2L + L)) = min(T, 12·L); Ki = Kp/Ti: kp_q16·256/ti_q8 ≤ Kp·2^16 fits too.
-  const uint32_t ti_q8 = t_pid_q8 < 12UL * l ? t_pid_q8 : 12UL * l;
+  // Ti = min(T, 4·(τc + L)) = min(T, 4n·L); Ki = Kp/Ti: kp_q16·256/ti_q8 ≤ Kp·2^16 fits too
+  // (4n·L ≤ 12·600 s·256 < 2^21).
+  const uint32_t ti_q8 = t_pid_q8 < 4UL * n * l ? t_pid_q8 : 4UL * n * l;
   const uint32_t ki_q16 = fixed::mul_div_u32(kp_q16, 256UL, ti_q8);
   out->pid = PidGains{static_cast<int32_t>(kp_q16), static_cast<int32_t>(ki_q16), 0};
   return Pid::valid(out->pid, period_ms);

@@ -4,7 +4,8 @@
 //     as D the dead time L below (the one the PID rule uses);
 //   - PID gains: SIMC PI (Skogestad 2003, J. Process Control 13:291, Table 1) with the smooth
 //     setting τc = 2·L on the identified FOPDT, Kc = T/(K·(τc + L)), Ti = min(T, 4·(τc + L)),
-//     Kd = 0 — the rule the simulator's `simc` gains use (design/tuning.h, the double reference).
+//     Kd = 0 — the rule the simulator's `simc` gains use (design/tuning.h, the double reference);
+//     on an unsure tune's fitted lags (M307 their two-point FOPDT) the tight τc = L (`simc-tight`).
 //     L is the identified dead time, raised to Tu/4 where tu_floors_dead_time says (below), and
 //     to 1.15·Tu/4 where the tune's cut probe peaked late (AutotuneResult::late_peak).
 // The fuzzy-PID's centre is the M301 gains (firmware/controller_settings.h), so it follows them.

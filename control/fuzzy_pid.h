@@ -76,6 +76,8 @@ class FuzzyPid final : public Controller {
   void init_bumpless(int32_t measured_q8, uint16_t duty_q16) override;
   void set_feedforward(uint16_t duty_q16) { pid_.set_feedforward(duty_q16); }
   void preset_integral(uint16_t duty_q16) { pid_.preset_integral(duty_q16); }
+  // The PID the schedule drives (its feedforward and integrator are the fuzzy-PID's).
+  Pid& pid() { return pid_; }
 
   const FuzzyPidConfig& config() const { return config_; }
   // The supervisor runs over four step() calls (inputs, surfaces, kp/ki, kd and apply); the

@@ -25,6 +25,7 @@ constexpr int32_t kMaxTuneTargetQ8 = 255L * 256;
 // How far M303 U1's model is trusted (Settings::model_tuned, controller_settings.h).
 inline uint8_t tuned_model_source(const control::AutotuneResult& r) {
   return control::tune_bounds_tightly(r)     ? kModelMeasured
+         : r.second_lag_q8 > 0               ? kModelFittedLags  // (an unsure tune: never tight)
          : control::tune_heat_up_trusted(r) ? kModelMeasuredLag
                                             : kModelMeasuredLoose;
 }

@@ -157,7 +157,7 @@ void ControllerBank::prepare_feedforward(int32_t target_q8) {
     base_q16 = feedforward_.duty_q16(target_q8, 0);
     full_fan_q16 = static_cast<uint16_t>(feedforward_.duty_q16(target_q8, 255) - base_q16);
   }
-  // Kept for step_fuzzy's model heat-up with F0 (a division per period there took the fuzzy
+  // Kept for step_model_heat_up with F0 (a division per period there took the fuzzy
   // step to 2,994 cycles on seed000-5).
   base_q16_ = base_q16;
   ff_no_fan_q16_ = no_fan_q16;
@@ -199,14 +199,19 @@ __attribute__((noinline)) uint16_t ControllerBank::step_pid_family(const control
   if (in.target_q8 != ff_target_q8_) prepare_feedforward(in.target_q8);
   if (in.fan_duty != ff_fan_) follow_fan(in.fan_duty);
   if (settings_.feedforward != 0 && id == ControllerId::kPid) return step_model_following(in);
-  // Fuzzy-PID's model heat-up with F0 wants a model whose C is not read long: on an unsure
-  // tune's (seed000-4, C 1.7 × long) it overshot by 35 °C. A lag-dominated hotend's loose model
-  // is fine, and without it the rules' cut ki took minutes to build the steady duty (seed003:
+  // The model heat-up with F0 wants a model whose C is not read long: fuzzy-PID's on an unsure
+  // tune's (seed000-4, C 1.7 × long) overshot by 35 °C. A lag-dominated hotend's loose model is
+  // fine, and without it fuzzy-PID's cut ki took minutes to build the steady duty (seed003:
   // −6.9 °C after 300 s). The fan share above takes from any measured model.
-  if (id == ControllerId::kFuzzyPid && (settings_.feedforward != 0 || settings_.model_tuned == kModelMeasured ||
-                                        settings_.model_tuned == kModelMeasuredLag)) {
-    return step_fuzzy(in);
+  const uint8_t source = settings_.model_tuned;
+  if (id == ControllerId::kFuzzyPid && (settings_.feedforward != 0 || source == kModelMeasured || source >= kModelMeasuredLag)) {
+    return step_model_heat_up(fuzzy(), fuzzy().pid(), in);
   }
+  // PID F0 on fitted lags' model heats up on it too: a PI on lags of 500–1,200 s (seed000) either
+  // wound up over the long heat-up (τc = L: 8.3 °C over) or crept in too slowly (τc = 2L: 0.7 °C
+  // low after 1,350 s). Elsewhere PID F0 is feedback alone (heavy-slow's lag-dominated model:
+  // its heat-up overshot 16 °C, where feedback ended 10 °C low).
+  if (id == ControllerId::kPid && source == kModelFittedLags) return step_model_heat_up(pid(), pid(), in);
   const bool update = !ff_applied_;
   ff_applied_ = true;
   switch (id) {
@@ -225,7 +230,7 @@ __attribute__((noinline)) uint16_t ControllerBank::step_pid_family(const control
 // PID with F1: model following (control/feedforward.h, ModelReference). The feedforward is the
 // model's time-optimal heat-up, and P and I see reference − measured, so they correct only what
 // the model did not predict (docs/controllers.md, feedforward). Marlin keeps the plain steady
-// feedforward; fuzzy-PID runs the model only until it takes over (step_fuzzy): both in one
+// feedforward; fuzzy-PID runs the model only until it takes over (step_model_heat_up): both in one
 // period would take its ~2,800-cycle step past the 3,000-cycle budget.
 __attribute__((noinline)) uint16_t ControllerBank::step_model_following(const control::StepInput& in) {
   if (!reference_started_) reference().start(in.measured_q8, reference_holds_ ? in.target_q8 : in.measured_q8);
@@ -243,16 +248,18 @@ __attribute__((noinline)) uint16_t ControllerBank::step_model_following(const co
   return pid().step(pid_target_q8, in.measured_q8);
 }
 
-// Fuzzy-PID with a model (M310 F1, or a measured M307 with F0): the heat-ups and cool-downs are
-// the model's (ModelReference: full power, or off, until the model's undelayed state reaches the
-// target, then its steady duty until the delayed output has too), and the fuzzy-PID takes over
-// only then, starting from the model's steady duty: as the feedforward with F1, as its integral
-// with F0 (so that the integral holds the target from the start and may learn a better value).
-// Seed 002's rules act near the target, where they were designed to; far from it on a 20 s
-// dead-time plant, P and I heat blind for 20 s and overshot 25–80 °C, and with F0 the integral
-// (ki cut by the rules there) took minutes to build the steady duty. One of the two runs per
-// period, so the step costs no more than the fuzzy-PID's own.
-__attribute__((noinline)) uint16_t ControllerBank::step_fuzzy(const control::StepInput& in) {
+// Fuzzy-PID with a model (M310 F1, or a measured M307 with F0), and PID with F0 on fitted
+// lags' model: the heat-ups and cool-downs are the model's (ModelReference: full
+// power, or off, until the model's undelayed state reaches the target, then its steady duty until
+// the delayed output has too), and the controller `c` takes over only then, starting from the
+// model's steady duty: as the feedforward with F1, as its integral with F0 (so that the integral
+// holds the target from the start and may learn a better value). `pid` is c's PID (fuzzy-PID
+// drives one). Seed 002's rules act near the target, where they were designed to; far from it on
+// a 20 s dead-time plant, P and I heat blind for 20 s and overshot 25–80 °C, and with F0 the
+// integral (ki cut by the rules there) took minutes to build the steady duty. One of the two runs
+// per period, so the step costs no more than the controller's own.
+__attribute__((noinline)) uint16_t ControllerBank::step_model_heat_up(control::Controller& c, control::Pid& pid,
+                                                                      const control::StepInput& in) {
   if (!reference_started_) {
     // A take-over continues bumplessly from the present duty: the model rests at the target.
     const int32_t start_q8 = reference_holds_ ? in.target_q8 : in.measured_q8;
@@ -262,16 +269,16 @@ __attribute__((noinline)) uint16_t ControllerBank::step_fuzzy(const control::Ste
   if (!reference().holds(in.target_q8)) {
     const uint16_t base_q16 = base_q16_;  // F0: the model's steady duty (prepare_feedforward)
     const control::ModelReference::Output r = reference().step(in.target_q8, ff_q16_ + base_q16, in.measured_q8);
-    // The fuzzy-PID waits, ready to start from the model's steady duty.
-    fuzzy().reset();
-    fuzzy().set_feedforward(ff_q16_);
-    fuzzy().preset_integral(base_q16);
+    // The controller waits, ready to start from the model's steady duty.
+    c.reset();
+    pid.set_feedforward(ff_q16_);
+    pid.preset_integral(base_q16);
     ff_applied_ = true;
     return r.duty_q16;
   }
-  if (!ff_applied_) fuzzy().set_feedforward(ff_q16_);
+  if (!ff_applied_) pid.set_feedforward(ff_q16_);
   ff_applied_ = true;
-  return fuzzy().step(in);
+  return c.step(in);
 }
 
 }  // namespace firmware

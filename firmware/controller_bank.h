@@ -87,7 +87,7 @@ class ControllerBank final : public control::Controller {
   control::Controller* active();
   uint16_t step_pid_family(const control::StepInput& in);
   uint16_t step_model_following(const control::StepInput& in);
-  uint16_t step_fuzzy(const control::StepInput& in);
+  uint16_t step_model_heat_up(control::Controller& c, control::Pid& pid, const control::StepInput& in);
   // nullptr if `next` can be applied with (sf_available) or without state-feedback constants.
   const gcode::FlashText* refusal(const Settings& next, bool sf_available) const;
   void commit(const Settings& next, const HandOver& now);

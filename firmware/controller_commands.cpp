@@ -77,7 +77,7 @@ const SettingParam kProtectionParams[] GCODE_PROGMEM = {  // M570
     SETTING_PARAM('T', 0, protect_tuned_c, kProtectMinC, kProtectMaxC),
     SETTING_PARAM('U', 0, protect_default_c, kProtectMinC, kProtectMaxC),
     SETTING_PARAM('P', 0, watch_period_s, kWatchMinPeriodS, kWatchMaxPeriodS),
-    SETTING_PARAM('S', 0, model_tuned, kModelDefault, kModelMeasuredLag)};
+    SETTING_PARAM('S', 0, model_tuned, kModelDefault, kModelFittedLags)};
 #undef SETTING_PARAM
 
 // Every parameter of the table checked (the first bad one gets its Error line and nothing
@@ -194,9 +194,9 @@ void ControllerCommands::fuzzy(const gcode::Command& cmd, gcode::Output& out, co
 
 void ControllerCommands::sync_staging() { bank_.sync_staging(); }
 
-// M570 T<°C> U<°C> P<s> S<0..3>: the protection's thresholds (RepRapFirmware's M570 and Prusa's
+// M570 T<°C> U<°C> P<s> S<0..4>: the protection's thresholds (RepRapFirmware's M570 and Prusa's
 // M310 set heater-fault detection; the letters here are our own). S is the model's source
-// (ModelSource: 0 default, 1 measured, 2 loose, 3 lag-dominated), which decides whether T or U
+// (ModelSource: 0 default, 1 measured, 2 loose, 3 lag-dominated, 4 fitted lags), which decides whether T or U
 // applies: M307 and M303 set it, and M503 prints it after M307 so that replaying M503 restores a
 // default, loose or lag-dominated model as it was. All checked first.
 void ControllerCommands::protection(const gcode::Command& cmd, gcode::Output& out, const HandOver& now) {
@@ -230,7 +230,7 @@ void ControllerCommands::report(gcode::Output& out) {
   out.print(GCODE_TEXT("echo:; Controller (M310 S0 PID, S1 state feedback, S2 fuzzy-PID, S3 Marlin PID; F1 model feedforward):\n"
                        "echo:  "));
   write_selection(out);
-  out.print(GCODE_TEXT("echo:; Heater protection (M570 T model check degC, U with the default model degC, P watch window s, S model: 0 default, 1 measured (T applies), 2 loose, 3 lag-dominated):\n"
+  out.print(GCODE_TEXT("echo:; Heater protection (M570 T model check degC, U with the default model degC, P watch window s, S model: 0 default, 1 measured (T applies), 2 loose, 3 lag-dominated, 4 fitted lags):\n"
                        "echo:  "));
   write_protection(out);
 }

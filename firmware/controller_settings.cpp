@@ -56,7 +56,7 @@ bool settings_fields_in_range(const Settings& s) {
 }
 
 bool protection_valid(const Settings& s) {
-  return s.model_tuned <= kModelMeasuredLag && s.protect_tuned_c >= kProtectMinC && s.protect_tuned_c <= kProtectMaxC &&
+  return s.model_tuned <= kModelFittedLags && s.protect_tuned_c >= kProtectMinC && s.protect_tuned_c <= kProtectMaxC &&
          s.protect_default_c >= kProtectMinC && s.protect_default_c <= kProtectMaxC &&
          s.watch_period_s >= kWatchMinPeriodS && s.watch_period_s <= kWatchMaxPeriodS;
 }

@@ -29,7 +29,17 @@ constexpr uint16_t kControlPeriodMs = 128;  // brief: 128 ticks of 1 ms
 // read long, and a long C keeps full power on too long (2 is also what older firmware stored for
 // any loose model, so an old EEPROM block keeps its behaviour). A lag-dominated hotend's model is
 // 3: its FOPDT reaches full slope sooner than the lags do, good for a heat-up, not for a fault.
-enum ModelSource : uint8_t { kModelDefault = 0, kModelMeasured = 1, kModelMeasuredLoose = 2, kModelMeasuredLag = 3 };
+// 4 is an unsure tune whose record fit two lags (seed000): M307 is their two-point FOPDT, 3 in
+// every respect, and PID F0 follows its heat-up too (docs/controllers.md: by feedback alone a PI
+// on 600–1,200 s lags crept in or wound up; on heavy-slow's lag-dominated model (3) the heat-up
+// overshot 16 °C, so not there).
+enum ModelSource : uint8_t {
+  kModelDefault = 0,
+  kModelMeasured = 1,
+  kModelMeasuredLoose = 2,
+  kModelMeasuredLag = 3,
+  kModelFittedLags = 4
+};
 
 struct Settings {
   control::PidGains pid;          // M301, Marlin units Q16 (S0, S2 around them, S3)
@@ -39,7 +49,7 @@ struct Settings {
   uint8_t fuzzy_spread_pct;       // M312 S: fuzzy schedule spans M301 × (1 ∓ spread)
   uint16_t fuzzy_e_factor_q12;    // M312 E: universe units per °C, Q12
   uint16_t fuzzy_ec_factor_q12;   // M312 C: universe units per °C/s, Q12
-  uint8_t model_tuned;            // a ModelSource: default, measured, loose, or lag-dominated
+  uint8_t model_tuned;            // a ModelSource: default, measured, loose, lag-dominated, fitted lags
   uint8_t protect_tuned_c;        // M570 T: model check's evidence threshold, °C, tuned model
   uint8_t protect_default_c;      // M570 U: the same with the default model
   uint16_t watch_period_s;        // M570 P: the model-free heating watch's window, s

@@ -342,7 +342,8 @@ namespace {
 // How far U1 trusts the model it applies (Settings::model_tuned): tight where nothing speaks
 // against it; lag-dominated for a lag above C/20 (the model check's FOPDT bounds would trip, but a
 // heat-up may follow it: fuzzy-PID F0 does); loose after a hot start or an unsure tune, whose C
-// may be read long (neither the tight check nor the model heat-up of fuzzy-PID F0).
+// may be read long (neither the tight check nor the model heat-up of fuzzy-PID F0); fitted lags
+// after an unsure tune whose record fit two lags (fuzzy-PID F0 and PID F0 follow its heat-up).
 TEST(AutotuneCommand, U1MarksHowFarTheModelIsTrusted) {
   control::AutotuneResult r{};
   r.model = control::HotendModel{450 * 256, 200 * 256, 10 * 256, 43 * 256};
@@ -356,6 +357,10 @@ TEST(AutotuneCommand, U1MarksHowFarTheModelIsTrusted) {
   r.sensor_lag_q8 = 0;
   r.unsure = true;
   EXPECT_EQ(firmware::tuned_model_source(r), firmware::kModelMeasuredLoose);
+  // ...unless its record fit two lags (seed000): M307 is their two-point FOPDT.
+  r.first_lag_q8 = 526 * 256;
+  r.second_lag_q8 = 194 * 256;
+  EXPECT_EQ(firmware::tuned_model_source(r), firmware::kModelFittedLags);
 }
 
 }  // namespace

@@ -335,10 +335,12 @@ TEST(AutotuneDesign, AnUnsureTunesSecondLagGivesTheTwoLagLaw) {
   ASSERT_TRUE(control::design_from_tune(r, 128, &d));
   double c = 0, l = 0;
   expect_fitted_design(r, d, &c, &l);
-  // SIMC PI on that FOPDT (τc = 2L): Kp = C/(K·3L), Ti = min(C, 12·L), in M301 units.
-  const double gain = 456.16 / 255;
-  EXPECT_NEAR(d.pid.kp_q16 / 65536.0, c / (gain * 3 * l), 0.01 * c / (gain * 3 * l));
-  EXPECT_NEAR(d.pid.ki_q16 / 65536.0, c / (gain * 3 * l) / std::fmin(c, 12 * l), 0.01 * c / (gain * 3 * l) / c);
+  // The tight SIMC PI on that FOPDT (τc = L, the host's `simc-tight`): Kp = C/(K·2L),
+  // Ti = min(C, 8·L), in M301 units.
+  const tuning::MarlinGains tight = tuning::simc(tuning::Fopdt{456.16, c, l}, l);
+  EXPECT_NEAR(d.pid.kp_q16 / 65536.0, tight.kp, 0.01 * tight.kp);
+  EXPECT_NEAR(d.pid.ki_q16 / 65536.0, tight.ki, 0.01 * tight.ki);
+  EXPECT_NEAR(tight.kp, 255 * c / (456.16 * 2 * l), 1e-9 * tight.kp);
   control::StateFeedbackConstants k;
   ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
   EXPECT_EQ(k.n, 2);
@@ -373,12 +375,12 @@ TEST(AutotuneDesign, AWideFitGetsThePacedTwoLagLaw) {
   EXPECT_EQ(std::memcmp(&k, &paced, sizeof k), 0);
   EXPECT_NE(std::memcmp(&k, &unpaced, sizeof k), 0);
   // A tiny pair (the fit accepts any τ2 > 0): the PID rule's L stays at its 0.5 s floor, so its
-  // Kp stays within range rather than overflowing.
+  // (tight) Kp stays within range rather than overflowing.
   control::AutotuneResult tiny = fitted_tune(tune_of(450, 30, 1, 4, 40), 2.0, 0.3);
   ASSERT_TRUE(control::design_from_tune(tiny, 128, &d));
   EXPECT_EQ(d.model.dead_time_q8, control::kMinDesignDeadTimeQ8);
   const double tiny_c = d.model.time_constant_q8 / 256.0;
-  EXPECT_NEAR(d.pid.kp_q16 / 65536.0, tiny_c / (450.0 / 255 * 3 * 0.5), 0.01 * tiny_c / (450.0 / 255 * 1.5));
+  EXPECT_NEAR(d.pid.kp_q16 / 65536.0, tiny_c / (450.0 / 255 * 2 * 0.5), 0.01 * tiny_c / (450.0 / 255 * 1.0));
   // seed000-4's narrower pair stays unpaced.
   control::AutotuneResult narrow = fitted_tune(tune_of(456.16, 987.7, 67.156, 282.75, 47.754), 532.793, 188.70);
   ASSERT_TRUE(control::design_from_tune(narrow, 128, &d));

@@ -164,8 +164,9 @@ TEST(ControllerBank, FeedforwardReachesThePidFamilyAndFollowsTheFan) {
 // F0 on a measured model still carries the part fan's share (M307 F), also when M303 left the
 // model on the loose check (a lag-dominated, hot-start or unsure tune): seed003's tuned PID and
 // fuzzy-PID dipped 29 °C at the fan step without it and never came back (simavr). The default
-// model gives none, and fuzzy-PID's model heat-up needs a model whose C is trusted (tight or
-// lag-dominated; not a loose one from a hot start or an unsure tune), or F1.
+// model gives none, and fuzzy-PID's model heat-up needs a model whose C is trusted (tight,
+// lag-dominated or fitted lags; not a loose one from a hot start or an unsure tune), or F1;
+// PID's (with F0) fitted lags.
 TEST(ControllerBank, F0CarriesTheFanShareOfAnyMeasuredModel) {
   ControllerBank bank(load_cell);
   start(bank, false);
@@ -173,7 +174,7 @@ TEST(ControllerBank, F0CarriesTheFanShareOfAnyMeasuredModel) {
   model.configure(control::kHotend40wModel);
   const uint16_t share = static_cast<uint16_t>(model.duty_q16(210L * 256, 255) - model.duty_q16(210L * 256, 0));
   for (uint8_t source : {firmware::kModelDefault, firmware::kModelMeasured, firmware::kModelMeasuredLoose,
-                         firmware::kModelMeasuredLag}) {
+                         firmware::kModelMeasuredLag, firmware::kModelFittedLags}) {
     for (uint8_t controller : {0, 2}) {
       Settings s = with(controller, 0);
       s.model_tuned = source;
@@ -189,21 +190,28 @@ TEST(ControllerBank, F0CarriesTheFanShareOfAnyMeasuredModel) {
       }
     }
   }
-  // Just below the target (1 °C, fan off), fuzzy-PID F0's model heat-up runs on a tight or a
-  // lag-dominated model: on a loose one (hot start, unsure tune) the output is the feedback alone,
-  // as on the default model.
-  uint16_t out[4];
-  for (uint8_t source : {firmware::kModelDefault, firmware::kModelMeasured, firmware::kModelMeasuredLoose,
-                         firmware::kModelMeasuredLag}) {
-    Settings s = with(2, 0);
-    s.model_tuned = source;
-    ASSERT_EQ(bank.apply(s, kCold), nullptr);
-    bank.reset();
-    out[source] = bank.step({210L * 256, 209L * 256, 0});
+  // Just below the target (1 °C, fan off), F0's model heat-up runs for fuzzy-PID on a tight, a
+  // lag-dominated or a fitted-lag model, for PID on a fitted-lag one only: elsewhere the output
+  // is the feedback alone, as on the default model.
+  uint16_t heat_up[2] = {0, 0};
+  for (uint8_t controller : {0, 2}) {
+    uint16_t out[5];
+    for (uint8_t source : {firmware::kModelDefault, firmware::kModelMeasured, firmware::kModelMeasuredLoose,
+                           firmware::kModelMeasuredLag, firmware::kModelFittedLags}) {
+      Settings s = with(controller, 0);
+      s.model_tuned = source;
+      ASSERT_EQ(bank.apply(s, kCold), nullptr);
+      bank.reset();
+      out[source] = bank.step({210L * 256, 209L * 256, 0});
+    }
+    const bool fuzzy = controller == 2;
+    EXPECT_EQ(out[firmware::kModelMeasuredLoose], out[firmware::kModelDefault]) << int(controller);
+    EXPECT_EQ(out[firmware::kModelMeasured] != out[firmware::kModelDefault], fuzzy) << int(controller);
+    EXPECT_EQ(out[firmware::kModelMeasuredLag] != out[firmware::kModelDefault], fuzzy) << int(controller);
+    EXPECT_NE(out[firmware::kModelFittedLags], out[firmware::kModelDefault]) << int(controller);
+    heat_up[fuzzy] = out[firmware::kModelFittedLags];
   }
-  EXPECT_EQ(out[firmware::kModelMeasuredLoose], out[firmware::kModelDefault]);
-  EXPECT_NE(out[firmware::kModelMeasured], out[firmware::kModelDefault]);
-  EXPECT_EQ(out[firmware::kModelMeasuredLag], out[firmware::kModelMeasured]);
+  EXPECT_EQ(heat_up[0], heat_up[1]);  // the model's duty, whichever controller waits
 }
 
 }  // namespace

@@ -236,7 +236,7 @@ TEST(ControllerCommands, M570SetsTheProtectionAndRefusesOutOfRange) {
   EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S0 ; model check: U (default, loose or lag-dominated model)\nok\n");
   EXPECT_EQ(rig.send("M307 A500\n"), "ok\n");  // a model the host vouches for: the check tightens
   EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S1 ; model check: T (measured model)\nok\n");
-  EXPECT_EQ(rig.send("M570 S4\n"), "Error:M570 S must be an integer in 0..3\nok\n");
+  EXPECT_EQ(rig.send("M570 S5\n"), "Error:M570 S must be an integer in 0..4\nok\n");
   EXPECT_EQ(rig.send("M570 S2\n"), "ok\n");  // back to the wide check, the model kept as measured
   EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S2 ; model check: U (default, loose or lag-dominated model)\nok\n");
   EXPECT_EQ(rig.machine.bank.settings().model.rise_q8, 500 * 256);
@@ -247,9 +247,12 @@ TEST(ControllerCommands, M570SetsTheProtectionAndRefusesOutOfRange) {
   EXPECT_EQ(rig.send("M570 S3\n"), "ok\n");
   EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelMeasuredLag);
   EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S3 ; model check: U (default, loose or lag-dominated model)\nok\n");
+  EXPECT_EQ(rig.send("M570 S4\n"), "ok\n");
+  EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelFittedLags);
+  EXPECT_EQ(rig.send("M570\n"), "echo:M570 T5 U15 P60 S4 ; model check: U (default, loose or lag-dominated model)\nok\n");
   EXPECT_EQ(rig.send("M570 S0\n"), "ok\n");  // as is: the model counts as the default's
   EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelDefault);
-  EXPECT_EQ(rig.send("M570 S4\n"), "Error:M570 S must be an integer in 0..3\nok\n");
+  EXPECT_EQ(rig.send("M570 S5\n"), "Error:M570 S must be an integer in 0..4\nok\n");
   EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelDefault);
   rig.send("M502\n");
   EXPECT_EQ(rig.send("M570\n"), "echo:M570 T2 U15 P120 S0 ; model check: U (default, loose or lag-dominated model)\nok\n");
@@ -268,7 +271,7 @@ TEST(ControllerCommands, ReplayedM503KeepsTheModelsSource) {
     for (const std::string& line : settings_lines(rig)) fresh.send(line + "\n");
     EXPECT_EQ(fresh.machine.bank.settings().model_tuned, firmware::kModelDefault);
   }
-  for (const char* s : {"S0", "S2", "S3"}) {
+  for (const char* s : {"S0", "S2", "S3", "S4"}) {
     Rig rig;
     rig.send(std::string("M307 A500 C200 D6 F30\nM570 ") + s + "\n");
     const uint8_t source = rig.machine.bank.settings().model_tuned;
@@ -289,14 +292,15 @@ TEST(ControllerCommands, StoredProtectionOutOfRangeIsRefusedWhole) {
   bad.watch_period_s = 5;
   EXPECT_NE(rig.machine.bank.replace_all(bad, nullptr, firmware::HandOver{0, 0, false}), nullptr);
   EXPECT_EQ(rig.machine.bank.settings().protect_tuned_c, 2);
-  // The model's source: 0..3 (default, measured, loose, lag-dominated) load; a byte beyond is corrupt.
+  // The model's source: 0..4 (default, measured, loose, lag-dominated, fitted lags) load; a byte
+  // beyond is corrupt.
   firmware::Settings lag = rig.machine.bank.settings();
-  lag.model_tuned = firmware::kModelMeasuredLag;
+  lag.model_tuned = firmware::kModelFittedLags;
   EXPECT_EQ(rig.machine.bank.replace_all(lag, nullptr, firmware::HandOver{0, 0, false}), nullptr);
   bad = rig.machine.bank.settings();
-  bad.model_tuned = firmware::kModelMeasuredLag + 1;
+  bad.model_tuned = firmware::kModelFittedLags + 1;
   EXPECT_NE(rig.machine.bank.replace_all(bad, nullptr, firmware::HandOver{0, 0, false}), nullptr);
-  EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelMeasuredLag);
+  EXPECT_EQ(rig.machine.bank.settings().model_tuned, firmware::kModelFittedLags);
 }
 
 }  // namespace

@@ -35,7 +35,8 @@ const char* const kUsage = R"(usage:
              [--max-report-error C] [--max-steady-p2p C] [--max-recovery S]
              [--max-recovery-ratio R] [--transcript FILE] [--quiet]
              [--autotune [--tune-cycles N] [--tune-fan 0|1] [--tune-from C] [--max-tune-overshoot C]
-             [--max-model-error PCT] [--after-tune "CMD;CMD"]] [--expect-reply TEXT]...
+             [--max-model-error PCT] [--after-tune "CMD;CMD"] [--save-settings FILE]] [--settings FILE]
+             [--expect-reply TEXT]...
              [--svg FILE] [--eeprom-timing simavr|silicon] [--max-step-gap-ms MS]
   hotend-sim bench [--markdown] [--autotune] [--boards a,b] [--plants x,y] [--controllers a,b]
              [--variant NAME=GCODE]... [--target C] [--fan-step S] [--seconds S] [--jobs N]
@@ -77,7 +78,10 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the cont
   tune's duration, its maximum above S and the identified model; --check adds: the tune finished
   and applied, never more than --max-tune-overshoot (5 °C) above S. --tune-from C: a hot start
   (M109 S<C> before M303); --after-tune: G-code sent when the tune has ended (e.g. "M310 S2 F1":
-  another controller on the tuned settings); --expect-reply TEXT (repeatable): --check fails
+  another controller on the tuned settings); --save-settings FILE: then M503's setting lines
+  (M307 … M301, as commands) to FILE. --settings FILE (no --autotune): those lines first, on a
+  fresh board, read back with M503 (--check: the same), then the run as usual — a tune's
+  settings on a cold hotend without its tune. --expect-reply TEXT (repeatable): --check fails
   unless the firmware sent a line containing TEXT. Timed commands and faults may count from M303's ok: "M108@tune+90",
   --fault open@tune+60 (kinds also m108, m112: the host stops the tune). Serial-layer kinds
   (sim/serial_scenario.h): m112-wait, m112-burst (heater off within 1 s of the M112's last
@@ -117,7 +121,7 @@ int run_command(const std::vector<std::string>& args) {
                      "gains-rule", "gcode", "elf", "fault", "max-detect", "max-block-above", "transcript", "max-overshoot", "max-steady-error",
                      "max-report-error", "max-steady-p2p", "max-recovery", "max-recovery-ratio",
                      "tune-cycles", "tune-fan", "tune-from", "after-tune", "max-tune-overshoot", "max-model-error",
-                     "svg", "expect-reply", "eeprom-timing", "max-step-gap-ms"});
+                     "svg", "expect-reply", "eeprom-timing", "max-step-gap-ms", "save-settings", "settings"});
   RunConfig c;
   c.board = board_named(o.get("board", "ramps14"));
   c.plant = plant_named(o.get("plant", "hotend40w"));
@@ -146,9 +150,21 @@ int run_command(const std::vector<std::string>& args) {
     a.fan = parse_number(o.get("tune-fan", "1"), "--tune-fan") != 0;
     if (o.has("tune-from")) a.hot_start_c = parse_number(o.get("tune-from"), "--tune-from");
     for (const TimedCommand& t : parse_gcode(o.get("after-tune"))) a.after.push_back(t.line);
+    a.save_settings_path = o.get("save-settings");
     if (c.print_like) a.cool_to_fraction = 1.0;  // the print starts when the tune ends
     c.autotune = a;
     if (!o.has("gains")) {  // the tune designs them
+      c.gains.reset();
+      c.gains_source.clear();
+    }
+  }
+
+  if (o.has("save-settings") && !c.autotune) throw std::invalid_argument("--save-settings saves a tune's settings: add --autotune");
+  if (o.has("settings")) {
+    if (c.autotune || o.has("controller")) throw std::invalid_argument("--settings sets the controller itself (no --autotune, no --controller)");
+    c.settings = read_lines(o.get("settings"));
+    c.settings_source = o.get("settings");
+    if (!o.has("gains")) {  // the settings hold M301
       c.gains.reset();
       c.gains_source.clear();
     }

@@ -74,8 +74,14 @@ void print_report(std::ostream& out, const RunResult& r) {
       << "gains              "
       << (c.gains ? "P " + format_fixed(c.gains->kp, 3) + " I " + format_fixed(c.gains->ki, 4) + " D " +
                         format_fixed(c.gains->kd, 2)
-                  : std::string("firmware default"))
+                  : std::string(c.settings.empty() ? "firmware default" : "the settings' M301"))
       << (c.gains_source.empty() ? "" : "  (" + c.gains_source + ")") << "\n";
+  if (!c.settings.empty())
+    out << "settings           " << c.settings.size() << " lines from " << c.settings_source << ", M503 "
+        << (!r.settings_read_back ? std::string("never read them back")
+                                  : *r.settings_read_back ? std::string("read them back the same")
+                                                          : std::string("read them back DIFFERENT"))
+        << "\n";
   if (r.tune) {
     const TuneOutcome& t = *r.tune;
     out << "autotune (M303)    " << (t.end_s ? format_fixed(t.duration_s(), 1) + " s, " : std::string("did not end, "))
@@ -162,6 +168,9 @@ std::vector<std::string> failed_checks(const RunResult& r, const CheckLimits& li
       within("F (fan loss)", r.tune->f, truth.fan_loss_pct, 2.0 * e);
     }
   }
+  if (!r.config.settings.empty())
+    require(r.settings_read_back.value_or(false),
+            "the settings from " + r.config.settings_source + " did not read back the same (M503)");
   if (limits.max_step_gap_ms)
     require(step_gap_ms(r) <= *limits.max_step_gap_ms, "largest gap between control steps " +
                                                            format_fixed(step_gap_ms(r), 1) + " ms > " +

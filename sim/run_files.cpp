@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <memory>
 #include <stdexcept>
 
@@ -39,6 +40,23 @@ void write_transcript(const std::string& path, const std::vector<ReplyLine>& tra
   const File file = open_for_writing(path);
   for (const ReplyLine& line : transcript)
     std::fprintf(file.get(), "%10.3f %s\n", line.t_s, line.text.c_str());
+}
+
+bool write_lines(const std::string& path, const std::vector<std::string>& lines) {
+  std::ofstream out(path);
+  for (const std::string& line : lines) out << line << '\n';
+  out.flush();
+  return static_cast<bool>(out);
+}
+
+std::vector<std::string> read_lines(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read " + path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) lines.push_back(line);
+  if (lines.empty()) throw std::runtime_error(path + " holds no settings");
+  return lines;
 }
 
 }  // namespace sim

@@ -15,5 +15,10 @@ namespace sim {
 void write_trace_csv(const std::string& path, const std::vector<TraceSample>& trace);
 // One line per transcript entry: "<seconds> <line>".
 void write_transcript(const std::string& path, const std::vector<ReplyLine>& transcript);
+// Settings files (hotend-sim run --save-settings / --settings): one G-code line per text line.
+// write_lines: false if the file cannot be written. read_lines: the non-empty lines; throws
+// std::runtime_error if the file cannot be read or holds none.
+bool write_lines(const std::string& path, const std::vector<std::string>& lines);
+std::vector<std::string> read_lines(const std::string& path);
 
 }  // namespace sim

@@ -81,7 +81,23 @@ class Runner {
   void expect_board_design(const std::string& applied);
   std::vector<std::string> expected_m311_, board_m311_;  // the host's / M503's M311 lines
   bool collecting_m311_ = false;
+  // Sends M503 and hands `done` its setting lines as commands (settings_command).
+  void capture_settings(std::function<void(const std::vector<std::string>&)> done);
+  void save_settings(const std::vector<std::string>& lines);
+  std::vector<std::string> m503_lines_;
+  bool capturing_m503_ = false;
 };
+
+// "echo:  M307 A… ; comment" (an M503 setting line) → "M307 A…"; "" for M503's other lines.
+std::string settings_command(const std::string& text) {
+  const std::string prefix = "echo:  M";
+  if (text.rfind(prefix, 0) != 0) return std::string();
+  std::string command = text.substr(prefix.size() - 1);
+  const std::size_t comment = command.find(';');
+  if (comment != std::string::npos) command.erase(comment);
+  while (!command.empty() && command.back() == ' ') command.pop_back();
+  return command;
+}
 
 Runner::Runner(const RunConfig& config)
     : config_(config),
@@ -91,6 +107,8 @@ Runner::Runner(const RunConfig& config)
       serial_(session_, config.fault) {
   result_.config = config;
   if (config.silicon_eeprom) board_.use_silicon_eeprom_timing();
+  if (config.autotune && !config.autotune->save_settings_path.empty())
+    std::remove(config.autotune->save_settings_path.c_str());
   for (const TimedCommand& c : config.gcode)
     if (c.at_s) (c.in_tune ? tune_timed_ : timed_).push_back(c);
   std::stable_sort(timed_.begin(), timed_.end(),
@@ -148,6 +166,10 @@ void Runner::inject_fault(double now_s) {
 }
 
 void Runner::on_line(const ReplyLine& line) {
+  if (capturing_m503_) {
+    const std::string command = settings_command(line.text);
+    if (!command.empty()) m503_lines_.push_back(command);
+  }
   if (collecting_m311_) {
     const std::string prefix = "echo:  M311 I";
     if (line.text.rfind(prefix, 0) == 0) board_m311_.push_back(line.text.substr(7));
@@ -167,8 +189,38 @@ void Runner::on_line(const ReplyLine& line) {
   }
 }
 
+void Runner::capture_settings(std::function<void(const std::vector<std::string>&)> done) {
+  // M503's lines follow its last byte (the firmware answers a complete line) and end at its ok;
+  // the host sends nothing in between, and T: auto-reports are no setting lines.
+  session_.send(
+      "M503", [this, done](double) {
+        capturing_m503_ = false;
+        done(m503_lines_);
+      },
+      [this](double) {
+        m503_lines_.clear();
+        capturing_m503_ = true;
+      });
+}
+
+void Runner::save_settings(const std::vector<std::string>& lines) {
+  const std::string& path = config_.autotune->save_settings_path;
+  if (!result_.tune || !result_.tune->finished || !result_.tune->applied) {
+    result_.problems.push_back("--save-settings: nothing saved, the tune did not finish and apply");
+    return;
+  }
+  if (lines.empty()) {
+    result_.problems.push_back("--save-settings: M503 listed no settings");
+    return;
+  }
+  if (!write_lines(path, lines)) result_.problems.push_back("--save-settings: cannot write " + path);
+}
+
 void Runner::start_setup() {
   result_.booted = true;
+  for (const std::string& command : config_.settings) session_.send(command);
+  if (!config_.settings.empty())
+    capture_settings([this](const std::vector<std::string>& lines) { result_.settings_read_back = lines == config_.settings; });
   if (config_.gains) session_.send(format_gains(*config_.gains));
   for (const TimedCommand& c : config_.gcode)
     if (!c.at_s) session_.send(c.line);
@@ -215,6 +267,8 @@ void Runner::on_tune_line(const std::string& text, double t_s) {
     cooling_ = true;
     rig_.set_target(0.0);  // the firmware switched the heater off
     for (const std::string& command : config_.autotune->after) session_.send(command);
+    if (!config_.autotune->save_settings_path.empty())
+      capture_settings([this](const std::vector<std::string>& lines) { save_settings(lines); });
   }
 }
 

@@ -40,6 +40,10 @@ struct AutotuneConfig {
   double cool_to_fraction = 0.02;
   std::optional<double> hot_start_c;  // `M109 S<this>` first: a hot start, as after a print
   std::vector<std::string> after;     // sent when the tune has ended (e.g. another M310 choice)
+  // --save-settings FILE: once the tune has ended and `after` was sent, M503's setting lines
+  // (the commands, without `echo:` and comments) are written here, for --settings runs to
+  // replay; removed at the start, so a failed tune leaves no stale file behind.
+  std::string save_settings_path;
 };
 
 // What the harness saw of a tune: the firmware's own lines, parsed.
@@ -79,6 +83,10 @@ struct RunConfig {
   bool fault_in_tune = false;
   std::string csv_path;
   std::optional<AutotuneConfig> autotune;
+  // --settings FILE: setting commands a tune saved (--save-settings), sent before every other
+  // set-up command; the run then reads them back with M503 and checks they are the same.
+  std::vector<std::string> settings;
+  std::string settings_source;  // the file, for the report
   bool silicon_eeprom = false;  // --eeprom-timing silicon: 3.4 ms per EEPROM byte write
   bool print_like = false;  // --print-like: the check is only "nothing tripped" (sim/print_like.h)
 };
@@ -109,6 +117,8 @@ struct RunResult {
   std::optional<FaultOutcome> fault;
   std::vector<TraceSample> trace;
   std::optional<TuneOutcome> tune;
+  // --settings: M503 after the replay listed exactly the replayed lines (nullopt: not read back).
+  std::optional<bool> settings_read_back;
 
   double sim_speed() const { return wall_s > 0.0 ? end_s / wall_s : 0.0; }
 };

@@ -59,6 +59,18 @@ TEST(ReportChecks, RecoveryBoundInMultiplesOfThePhysicalBound) {
   EXPECT_TRUE(failed_checks(r, limits).empty());
 }
 
+// --settings: the run must have read the replayed lines back with M503, and the same.
+TEST(ReportChecks, ReplayedSettingsMustReadBackTheSame) {
+  RunResult r = good_run();
+  r.config.settings = {"M301 P1 I0.01 D0"};
+  r.config.settings_source = "tuned.gcode";
+  EXPECT_TRUE(mentions(failed_checks(r, CheckLimits{}), "did not read back the same"));  // never read back
+  r.settings_read_back = false;
+  EXPECT_TRUE(mentions(failed_checks(r, CheckLimits{}), "tuned.gcode"));
+  r.settings_read_back = true;
+  EXPECT_TRUE(failed_checks(r, CheckLimits{}).empty());
+}
+
 TEST(ReportChecks, DutyOutsideTheRangeFails) {
   RunResult r = good_run();
   r.report_power_bad = 2;

@@ -41,5 +41,19 @@ TEST(RunFiles, PlotReaderRejectsOtherFiles) {
   std::remove(path.c_str());
 }
 
+// --save-settings / --settings: the lines come back as written, blank lines skipped; a missing
+// or empty file is an error, never an empty replay that would test the firmware's defaults.
+TEST(RunFiles, SettingsRoundTripAndEmptyFilesAreRefused) {
+  const std::string path = ::testing::TempDir() + "tuned.gcode";
+  const std::vector<std::string> lines = {"M307 A456.16 C599.70 D151.324 F47.754", "M310 S1 F1",
+                                          "M570 T2 U15 P120 S4", "M301 P1.10768 I0.00185 D0.00"};
+  ASSERT_TRUE(write_lines(path, lines));
+  EXPECT_EQ(read_lines(path), lines);
+  ASSERT_TRUE(write_lines(path, {}));
+  EXPECT_THROW(read_lines(path), std::runtime_error);
+  std::remove(path.c_str());
+  EXPECT_THROW(read_lines(path), std::runtime_error);
+}
+
 }  // namespace
 }  // namespace sim

@@ -765,6 +765,12 @@ __attribute__((noinline)) void Autotune::heat_sample(uint16_t k, int32_t slope) 
   scratch_.heat[1] = {p.dev_prev_q8, slope, p.area_q8 + div2n(p.dev_prev_q8, 1), static_cast<uint8_t>(c)};
 }
 
+// The heat-up sample the two stages below pair with bin `ca`'s centre: the later power-of-two
+// one (heat_sample keeps two) while it lies at most 2/3 of the way there, else the earlier.
+const Autotune::HeatSample& Autotune::earlier_heat(uint16_t ca) const {
+  return 3u * scratch_.heat[1].centre <= 2u * ca ? scratch_.heat[1] : scratch_.heat[0];
+}
+
 // Two lags τ1, τ2 heated at full power from a steady baseline obey K − y = Σ·ẏ + Π·ÿ (Σ = τ1 + τ2,
 // Π = τ1·τ2), and integrated from the pulse's start, K·t − ∫y = Σ·y + Π·ẏ. The tangent's
 // (K − y)/ẏ is Σ + Π·ÿ/ẏ: too long before the inflection, where the probe hands over (seed003:
@@ -779,7 +785,7 @@ __attribute__((noinline)) void Autotune::lag_fit_stage() {
   Probe& p = near(probe_);
   p.fit_r_q8 = 0;
   const uint16_t ca = static_cast<uint16_t>(bins_ - 1);
-  const HeatSample& b = 3u * scratch_.heat[1].centre <= 2u * ca ? scratch_.heat[1] : scratch_.heat[0];
+  const HeatSample& b = earlier_heat(ca);
   const int32_t slope_a = div2n(p.dev_q8 - p.dev_prev2_q8, 1);
   if (ca > 63 || b.centre < 2 || b.slope_q8 <= 0 || b.slope_q8 >= slope_a) return;
   const uint16_t r = static_cast<uint16_t>(capped_ratio_q16(static_cast<uint32_t>(b.slope_q8), 65535, static_cast<uint32_t>(slope_a)));
@@ -803,7 +809,7 @@ __attribute__((noinline)) void Autotune::lag_fit_stage() {
 __attribute__((noinline)) void Autotune::flight_stage() {
   Probe& p = near(probe_);
   const uint16_t ca = static_cast<uint16_t>(bins_ - 1);
-  const HeatSample& b = 3u * scratch_.heat[1].centre <= 2u * ca ? scratch_.heat[1] : scratch_.heat[0];
+  const HeatSample& b = earlier_heat(ca);
   const int32_t slope_a = div2n(p.dev_q8 - p.dev_prev2_q8, 1);
   if (ca > 255 || b.centre < 2 || b.slope_q8 <= 0 || slope_a <= 0) return;
   const int32_t ta = 2 * static_cast<int32_t>(ca) - 1;

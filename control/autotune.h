@@ -336,6 +336,7 @@ class Autotune {
     int32_t dev_q8, slope_q8, area_q8;
     uint8_t centre;  // 0: none
   };
+  const HeatSample& earlier_heat(uint16_t ca) const;  // lag_fit_stage's and flight_stage's sample b
   Probe probe_ = {};
   int32_t start_q8_ = 0;       // reading at start()
   bool cooled_ = false;        // a hot start has shown its decay

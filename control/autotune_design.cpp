@@ -133,8 +133,10 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   // seed000-4 0.7 °C low after 1,350 s and seed000-5 not back within ±1 °C 1,400 s after the
   // fan step (simavr, HIL3's limits; docs/autotune.md, "The PID family on seed000").
   // Kp = 255·T/(K·(τc + L)) in M301 units. ratio = 255·256·T/L ≤ 65,280·921,600/128 < 2^32
-  // (T ≤ 3600 s, L ≥ 0.5 s); kp_q16 = ratio·2^16/(n·K_q8), n = 3 or 2: Kp·2^16 < 2^32 whenever
-  // Kp < 65,536 — far above Pid's limit, and mul_div_u32 needs only the quotient to fit.
+  // (T ≤ 3600 s, L ≥ 0.5 s); kp_q16 = ratio·2^16/(n·K_q8), n = 3 or 2, and mul_div_u32 needs only
+  // that quotient < 2^32, i.e. Kp < 65,536. n = 3: Kp ≤ 255·7200/(3·10) = 61,200. n = 2 (fitted):
+  // T/L is the two-point C/D of lags with 0.1 ≤ τ2/τ1 ≤ 0.5, ≤ 9.8 (≤ 6 where both hit the
+  // 3600 / 600 s caps; the 0.5 s floor only lowers it), so Kp ≤ 255·9.8/(2·10) < 125.
   const uint32_t n = fitted ? 2UL : 3UL;  // (τc + L)/L
   const uint32_t ratio = fixed::mul_div_u32(t_pid_q8, 255UL * 256UL, l);
   const uint32_t kp_q16 = fixed::mul_div_u32(ratio, 65536UL, n * k_q8);

@@ -97,7 +97,8 @@ inline bool tune_bounds_tightly(const AutotuneResult& tune) {
 // Whether a heat-up may follow the tuned model (fuzzy-PID with M310 F0 does): not after a hot
 // start or an unsure tune, whose C may be read long (fopdt-fast after M109 S200: 39 s for 30 s;
 // seed000-4: 1.7 ×), so that full power would stay on too long. An unsure tune whose record fit
-// two lags has M307 from them (design_from_tune), not that long C.
+// two lags has M307 from them (design_from_tune), not that long C (the firmware gives that one a
+// source of its own, firmware::kModelFittedLags, on which PID F0 follows the heat-up too).
 inline bool tune_heat_up_trusted(const AutotuneResult& tune) {
   return !tune.hot_start && (!tune.unsure || tune.second_lag_q8 > 0);
 }

@@ -23,16 +23,18 @@ static_assert(kDefaultController != static_cast<uint8_t>(ControllerId::kStateFee
 constexpr uint16_t kControlPeriodMs = 128;  // brief: 128 ticks of 1 ms
 
 // Where Settings::model came from (Settings::model_tuned; M570 S sets it as is, M503 prints it).
-// Any measured model (1–3) feeds the PID family's part-fan term also with M310 F0; only a tight
+// Any measured model (1–4) feeds the PID family's part-fan term also with M310 F0; only a tight
 // one (1) arms the model check's tight threshold (M570 T). Fuzzy-PID with F0 follows the model's
-// heat-up on 1 and 3. M303 marks a hot start's or an unsure tune's model loose (2): its C may be
+// heat-up on 1, 3 and 4, PID with F0 on 4. M303 marks a hot start's or an unsure tune's model
+// loose (2; with fitted lags 4, below): its C may be
 // read long, and a long C keeps full power on too long (2 is also what older firmware stored for
 // any loose model, so an old EEPROM block keeps its behaviour). A lag-dominated hotend's model is
 // 3: its FOPDT reaches full slope sooner than the lags do, good for a heat-up, not for a fault.
 // 4 is an unsure tune whose record fit two lags (seed000): M307 is their two-point FOPDT, 3 in
 // every respect, and PID F0 follows its heat-up too (docs/controllers.md: by feedback alone a PI
 // on 600–1,200 s lags crept in or wound up; on heavy-slow's lag-dominated model (3) the heat-up
-// overshot 16 °C, so not there).
+// overshot 16 °C, so not there). An M307 edit makes any model the user's (1): PID F0 is then
+// feedback alone again, until M570 S4.
 enum ModelSource : uint8_t {
   kModelDefault = 0,
   kModelMeasured = 1,

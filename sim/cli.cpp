@@ -161,7 +161,9 @@ int run_command(const std::vector<std::string>& args) {
 
   if (o.has("save-settings") && !c.autotune) throw std::invalid_argument("--save-settings saves a tune's settings: add --autotune");
   if (o.has("settings")) {
-    if (c.autotune || o.has("controller")) throw std::invalid_argument("--settings sets the controller itself (no --autotune, no --controller)");
+    if (c.autotune || o.has("controller"))
+      throw std::invalid_argument("--settings set the controller themselves: not with --autotune, --print-like's tune or --controller");
+    if (o.has("gains-rule")) throw std::invalid_argument("--settings hold their M301: --gains-rule does not apply (--gains overrides it)");
     c.settings = read_lines(o.get("settings"));
     c.settings_source = o.get("settings");
     if (!o.has("gains")) {  // the settings hold M301

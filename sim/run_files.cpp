@@ -53,8 +53,10 @@ std::vector<std::string> read_lines(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read " + path);
   std::vector<std::string> lines;
-  for (std::string line; std::getline(in, line);)
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();  // a file edited on Windows
     if (!line.empty()) lines.push_back(line);
+  }
   if (lines.empty()) throw std::runtime_error(path + " holds no settings");
   return lines;
 }

@@ -49,6 +49,10 @@ TEST(RunFiles, SettingsRoundTripAndEmptyFilesAreRefused) {
                                           "M570 T2 U15 P120 S4", "M301 P1.10768 I0.00185 D0.00"};
   ASSERT_TRUE(write_lines(path, lines));
   EXPECT_EQ(read_lines(path), lines);
+  std::FILE* f = std::fopen(path.c_str(), "w");  // CRLF line ends and a blank line read the same
+  std::fputs("M310 S1 F1\r\n\r\nM301 P1 I0.01 D0\r\n", f);
+  std::fclose(f);
+  EXPECT_EQ(read_lines(path), (std::vector<std::string>{"M310 S1 F1", "M301 P1 I0.01 D0"}));
   ASSERT_TRUE(write_lines(path, {}));
   EXPECT_THROW(read_lines(path), std::runtime_error);
   std::remove(path.c_str());

@@ -79,8 +79,6 @@ class Runner {
   uint64_t heater_turn_ons_at_that_reset_ = 0;         // heater().turn_on_count() right after it
   bool cooling_ = false;  // the tune has ended: waiting for the hotend to cool before M104
   void expect_board_design(const std::string& applied);
-  std::vector<std::string> expected_m311_, board_m311_;  // the host's / M503's M311 lines
-  bool collecting_m311_ = false;
   // Sends M503 and hands `done` its setting lines as commands (settings_command).
   void capture_settings(std::function<void(const std::vector<std::string>&)> done);
   void save_settings(const std::vector<std::string>& lines);
@@ -169,14 +167,6 @@ void Runner::on_line(const ReplyLine& line) {
   if (capturing_m503_) {
     const std::string command = settings_command(line.text);
     if (!command.empty()) m503_lines_.push_back(command);
-  }
-  if (collecting_m311_) {
-    const std::string prefix = "echo:  M311 I";
-    if (line.text.rfind(prefix, 0) == 0) board_m311_.push_back(line.text.substr(7));
-    if (line.text == "ok") {  // M503's: its lines are complete
-      collecting_m311_ = false;
-      result_.tune->board_design_matches_host = board_m311_ == expected_m311_;
-    }
   }
   if (line.text == "start" && session_.boot_count() == 1) start_setup();
   if (line.text.rfind("Error:", 0) == 0) result_.error_lines.push_back(line.text);
@@ -301,11 +291,14 @@ void Runner::expect_board_design(const std::string& applied) {
     result_.problems.push_back("the host's build of the board design refuses the applied " + applied.substr(at));
     return;
   }
-  expected_m311_ = m311_commands(k);
-  expected_m311_.pop_back();  // "M311 W1": the upload's commit, not part of M503
-  board_m311_.clear();
-  collecting_m311_ = true;
-  session_.send("M503");
+  std::vector<std::string> expected = m311_commands(k);
+  expected.pop_back();  // "M311 W1": the upload's commit (M503 lists it too; compared: the I lines)
+  capture_settings([this, expected](const std::vector<std::string>& lines) {
+    std::vector<std::string> board;
+    for (const std::string& line : lines)
+      if (line.rfind("M311 I", 0) == 0) board.push_back(line);
+    result_.tune->board_design_matches_host = board == expected;
+  });
 }
 
 void Runner::send_heat_up() {

@@ -115,7 +115,11 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   out->model.dead_time_q8 = l_q8;  // the feedforward's heat-up must respect the same delay
   // The state feedback's C and D: the fitted lags, else M307's, as two lags where a lag was seen
   // and D < C/2 strictly (at 2·D = C dead_time_leads already hands U1 to the PID).
-  out->lags_paced = fitted && 5 * tune.second_lag_q8 < tune.first_lag_q8;
+  // A lag the relay confirmed: the tune's D is then the two-point dead time, above the tangent's
+  // lag (a lag it did not confirm, or a late peak's, leaves D at the lag or the relay's D).
+  out->lag_pace_tenths = fitted ? (5 * tune.second_lag_q8 < tune.first_lag_q8 ? kLagPaceWide : kLagPaceDefault)
+                         : tune.sensor_lag_q8 > 0 && tune.model.dead_time_q8 > tune.sensor_lag_q8 ? kLagPaceConfirmed
+                                                                                                 : kLagPaceDefault;
   if (fitted) {
     out->sf_c_q8 = tune.first_lag_q8;
     out->sf_d_q8 = tune.second_lag_q8;
@@ -154,7 +158,7 @@ bool design_tuned_state_feedback(TunedDesign* design, uint16_t period_ms, StateF
   m.time_constant_q8 = design->sf_c_q8;
   m.dead_time_q8 = design->sf_d_q8;
   if (design->two_lags) {
-    if (design_state_feedback_two_lags(m, period_ms, out, design->lags_paced)) return true;
+    if (design_state_feedback_two_lags(m, period_ms, out, design->lag_pace_tenths)) return true;
     // Refused: the FOPDT law on M307, and the design says so.
     design->two_lags = false;
     m = design->model;

@@ -34,9 +34,10 @@ struct TunedDesign {
   // at 0.95–1.11 × (paced: 1.04–1.29 ×). Not without a lag seen (hotend40w-delay5: a transport
   // delay, which two lags without dead time oscillate on).
   bool two_lags;
-  // The two-lag law paced (T_cl ≥ 1.2·τ2, design_state_feedback_two_lags): on lags fitted with
-  // τ2 < τ1/5, where the dead time the fit leaves out is a larger share of T_cl.
-  bool lags_paced;
+  // The two-lag law's pace κ in tenths (T_cl ≥ κ·τ2, design_state_feedback_two_lags): kLagPaceConfirmed
+  // where the relay confirmed the heat-up's lag, kLagPaceWide on lags fitted with τ2 < τ1/5, else
+  // kLagPaceDefault.
+  uint8_t lag_pace_tenths;
   // The C and D the state feedback is designed on (s × 256): two lags τ1, τ2 where two_lags.
   // M307's C and D, except after an unsure tune's two-lag fit: there M307 holds the lags'
   // two-point FOPDT, and these are τ1, τ2.

@@ -366,9 +366,9 @@ __attribute__((noinline, noclone)) bool design(const HotendModel& model, uint16_
 // [f, e2, Γ2]; Φo's eigenvectors [β − α, f, 0], [0, 1, 0], [K, K, 1]) with P(z) = Π(z − λo_j):
 //   k_d = P(1)/(αβK),  k1 = P(1)/(αβ) − P(e1)/(α·e1·f),
 //   k2 = P(1)/(αβ) − P(e1)/(α(β − α)e1) + P(e2)/(β(β − α)e2),   P(e_i) = Π(ℓo_j − α_i).
-__attribute__((noinline, noclone)) bool design_two_lags(const HotendModel& model, uint16_t period_ms, bool paced,
+__attribute__((noinline, noclone)) bool design_two_lags(const HotendModel& model, uint16_t period_ms, uint8_t pace_tenths,
                                                         StateFeedbackConstants& k, Calc& c) {
-  if (!hotend_model_valid(model) || period_ms == 0 || period_ms > 1000) return false;
+  if (!hotend_model_valid(model) || period_ms == 0 || period_ms > 1000 || pace_tenths == 0) return false;
   // Two distinct lags, the second at most half the first (well apart: Φ's eigenvalues distinct,
   // and no cancellation beyond a few bits in α − qβ). D > 0 (Q8: at least 1/256 s).
   if (model.dead_time_q8 <= 0 || 2 * model.dead_time_q8 > model.time_constant_q8) return false;
@@ -428,9 +428,8 @@ __attribute__((noinline, noclone)) bool design_two_lags(const HotendModel& model
   c.set(kU1, -static_cast<int32_t>(m[0]));
   c.div(kLagGainQ, kU0, kU1);
 
-  // Pole rule: c = h/T_cl = min(16·h/t_rise, h/(0.6·τ2), 1/2); t_rise = τ1·ln(K·r/(K − 185)), the
-  // two lags' asymptote (τ1 when K ≤ 185). 0.6·τ2: host sweep on the tuned models (docs/autotune.md);
-  // paced: h/(1.2·τ2).
+  // Pole rule: c = h/T_cl = min(16·h/t_rise, h/(κ·τ2), 1/2); t_rise = τ1·ln(K·r/(K − 185)), the
+  // two lags' asymptote (τ1 when K ≤ 185). κ = pace_tenths/10 (the header's kLagPace*).
   c.ldexp(kLagC, kLagA1, 4);
   if (model.rise_q8 > kStepQ8) {
     c.set(kU0, model.rise_q8 - kStepQ8, -8);
@@ -439,10 +438,10 @@ __attribute__((noinline, noclone)) bool design_two_lags(const HotendModel& model
     c.ln(kU0, kU0);
     c.div(kLagC, kLagC, kU0);
   }
-  c.set(kU0, 5);
+  c.set(kU0, 10);
   c.mul(kU0, kU0, kLagA2);
-  c.set(kU1, paced ? 6 : 3);
-  c.div(kU0, kU0, kU1);  // h/(0.6·τ2), paced h/(1.2·τ2)
+  c.set(kU1, pace_tenths);
+  c.div(kU0, kU0, kU1);  // h/(κ·τ2)
   c.min(kLagC, kLagC, kU0);
   c.min(kLagC, kLagC, kHalf);
   // Each lag slower than T_cl is sped up by T_dom/T_cl = τ1/T_cl (controller: capped at 2h;
@@ -568,10 +567,10 @@ bool design_state_feedback_fopdt(const HotendModel& model, uint16_t period_ms, S
 }
 
 bool design_state_feedback_two_lags(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants* out,
-                                    bool paced) {
+                                    uint8_t pace_tenths) {
   *out = StateFeedbackConstants();
   Calc calc;
-  if (design_two_lags(model, period_ms, paced, *out, calc)) return true;
+  if (design_two_lags(model, period_ms, pace_tenths, *out, calc)) return true;
   *out = StateFeedbackConstants();
   return false;
 }

@@ -30,14 +30,26 @@ bool design_state_feedback_fopdt(const HotendModel& model, uint16_t period_ms, S
 // Designs the two-state (n = 2, output_mask 2: y = x2) law for a thermistor that lags the block:
 // the M307 model read as two lags in cascade, K/((τ1 s + 1)(τ2 s + 1)) with τ1 = C, τ2 = D and
 // no dead time (the host's `design::second_order(A, C, D)`, "two lags" realisation). The host's
-// pole rule with T_cl = max(t_rise/16, 0.6·τ2, 2h) in place of its saturation search (the search
-// needs step simulations; 0.6·τ2 is where the tuned seed003/heavy-slow models' own saturated steps
-// stop overshooting much: docs/autotune.md). False, and *out all zero, as the FOPDT design; also
-// when D is 0 or more than C/2 (two lags that far apart only).
-// paced: T_cl at least 1.2·τ2 instead of 0.6·τ2, for two lags fitted to a record whose dead time
-// they leave out (seed000-5: ~20 s against τ2 ≈ 122 s; at 0.6·τ2 the law swung 2.6 °C p-p,
-// at 0.8–0.9·τ2 1.5–2.3 °C, from 1.0·τ2 on it holds: docs/autotune.md).
+// pole rule with T_cl = max(t_rise/16, κ·τ2, 2h) in place of its saturation search (the search
+// needs step simulations), κ = pace_tenths/10 (one of the kLagPace* below). False, and *out all
+// zero, as the FOPDT design; also when D is 0 or more than C/2 (two lags that far apart only), or
+// pace_tenths is 0.
 bool design_state_feedback_two_lags(const HotendModel& model, uint16_t period_ms, StateFeedbackConstants* out,
-                                    bool paced = false);
+                                    uint8_t pace_tenths);
+
+// κ where the relay confirmed the heat-up's thermistor lag (the tune's two-point dead time
+// replaced the tangent's: seed003): its tuned law settles in 0.73 × bound (simavr; at κ 0.6 0.92;
+// the host's saturation search on the true model 0.77), and the plant does not overshoot
+// (docs/autotune.md, "The two-lag law's pace").
+constexpr uint8_t kLagPaceConfirmed = 4;
+// κ for other lags: a cut probe's late peak (heavy-slow), a tangent's lag the relay did not
+// confirm (seed003 at σ 0.3 °C once: C 57.6 s, τ2 5.5 s, 3.9 °C over at κ 0.6, 10.9 at 0.4),
+// lags fitted to an unsure tune's record, which leaves its dead time out (seed000-4: at κ 0.4 the
+// law swung 2.5 °C p-p on the host rig, 0.0–0.2 °C at 0.6).
+constexpr uint8_t kLagPaceDefault = 6;
+// ... fitted with τ2 < τ1/5: the dead time left out is a larger share of T_cl (seed000-5: ~20 s
+// against τ2 ≈ 122 s; at 0.6·τ2 the law swung 2.6 °C p-p, at 0.8–0.9·τ2 1.5–2.3 °C, from 1.0·τ2 on
+// it holds).
+constexpr uint8_t kLagPaceWide = 12;
 
 }  // namespace control

@@ -80,7 +80,7 @@ __attribute__((noinline)) void write_design(gcode::Output& out, const control::A
 
 // The controller M303 picks: `rest` completes "M310 S1 (state feedback" (its variants share
 // that text) or, without state feedback, is the whole M310 S0 text. The two-lag law names its
-// lags exactly, and whether it is paced (hotend-sim's check of the board's M311 designs from
+// lags exactly and its pace κ (T_cl ≥ κ·τ2; hotend-sim's check of the board's M311 designs from
 // them and M307's A and F).
 void write_choice(gcode::Output& out, bool state_feedback, const gcode::FlashText* rest, const control::TunedDesign& d) {
   if (state_feedback) out.print(GCODE_TEXT("M310 S1 (state feedback"));
@@ -89,7 +89,10 @@ void write_choice(gcode::Output& out, bool state_feedback, const gcode::FlashTex
     out.write_exact(d.sf_c_q8, 8);
     out.print(GCODE_TEXT(" s and "));
     out.write_exact(d.sf_d_q8, 8);
-    out.print(d.lags_paced ? GCODE_TEXT(" s, paced") : GCODE_TEXT(" s"));
+    out.print(GCODE_TEXT(" s, pace "));
+    out.write_uint(d.lag_pace_tenths / 10u);
+    out.write_char('.');
+    out.write_uint(d.lag_pace_tenths % 10u);
   }
   out.print(rest);
 }

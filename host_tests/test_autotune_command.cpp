@@ -265,11 +265,11 @@ TEST(AutotuneCommand, ASmallThermistorLagGetsTheTwoLagStateFeedback) {
   const std::size_t at = text.find(applied);
   ASSERT_NE(at, std::string::npos) << text;
   double lag1 = 0, lag2 = 0;
-  ASSERT_EQ(std::sscanf(text.c_str() + at + applied.size(), "%lf s and %lf s), M307 A", &lag1, &lag2), 2) << text;
+  ASSERT_EQ(std::sscanf(text.c_str() + at + applied.size(), "%lf s and %lf s, pace 0.4), M307 A", &lag1, &lag2), 2) << text;
   EXPECT_EQ(std::lround(lag1 * 256), s.model.time_constant_q8);
   EXPECT_EQ(std::lround(lag2 * 256), s.model.dead_time_q8);
   control::StateFeedbackConstants two_lags;
-  ASSERT_TRUE(control::design_state_feedback_two_lags(s.model, 128, &two_lags));
+  ASSERT_TRUE(control::design_state_feedback_two_lags(s.model, 128, &two_lags, control::kLagPaceConfirmed));
   EXPECT_EQ(two_lags.n, 2);
   EXPECT_EQ(std::memcmp(&rig.machine.bank.state_feedback_constants(), &two_lags, sizeof two_lags), 0);
 }

@@ -211,8 +211,9 @@ TEST(AutotuneDesign, RefusedTwoLagLawFallsBackToTheFopdtDesign) {
   control::TunedDesign d{};
   d.model = control::HotendModel{450 * 256, 100 * 256, 60 * 256, 43 * 256};
   d.two_lags = true;
+  d.lag_pace_tenths = control::kLagPaceConfirmed;
   control::StateFeedbackConstants k;
-  ASSERT_FALSE(control::design_state_feedback_two_lags(d.model, 128, &k));
+  ASSERT_FALSE(control::design_state_feedback_two_lags(d.model, 128, &k, d.lag_pace_tenths));
   ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
   EXPECT_EQ(k.n, 1);
   EXPECT_FALSE(d.two_lags);
@@ -363,15 +364,15 @@ TEST(AutotuneDesign, AWideFitGetsThePacedTwoLagLaw) {
   ASSERT_TRUE(control::design_from_tune(r, 128, &d));
   double c = 0, l = 0;
   expect_fitted_design(r, d, &c, &l);
-  EXPECT_TRUE(d.lags_paced);
+  EXPECT_EQ(d.lag_pace_tenths, control::kLagPaceWide);
   control::StateFeedbackConstants k, paced, unpaced;
   ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
   EXPECT_EQ(k.n, 2);
   control::HotendModel lags = d.model;
   lags.time_constant_q8 = r.first_lag_q8;
   lags.dead_time_q8 = r.second_lag_q8;
-  ASSERT_TRUE(control::design_state_feedback_two_lags(lags, 128, &paced, true));
-  ASSERT_TRUE(control::design_state_feedback_two_lags(lags, 128, &unpaced, false));
+  ASSERT_TRUE(control::design_state_feedback_two_lags(lags, 128, &paced, control::kLagPaceWide));
+  ASSERT_TRUE(control::design_state_feedback_two_lags(lags, 128, &unpaced, control::kLagPaceDefault));
   EXPECT_EQ(std::memcmp(&k, &paced, sizeof k), 0);
   EXPECT_NE(std::memcmp(&k, &unpaced, sizeof k), 0);
   // A tiny pair (the fit accepts any τ2 > 0): the PID rule's L stays at its 0.5 s floor, so its
@@ -381,10 +382,10 @@ TEST(AutotuneDesign, AWideFitGetsThePacedTwoLagLaw) {
   EXPECT_EQ(d.model.dead_time_q8, control::kMinDesignDeadTimeQ8);
   const double tiny_c = d.model.time_constant_q8 / 256.0;
   EXPECT_NEAR(d.pid.kp_q16 / 65536.0, tiny_c / (450.0 / 255 * 2 * 0.5), 0.01 * tiny_c / (450.0 / 255 * 1.0));
-  // seed000-4's narrower pair stays unpaced.
+  // seed000-4's narrower pair: the fitted pace, slower than a measured pair's.
   control::AutotuneResult narrow = fitted_tune(tune_of(456.16, 987.7, 67.156, 282.75, 47.754), 532.793, 188.70);
   ASSERT_TRUE(control::design_from_tune(narrow, 128, &d));
-  EXPECT_FALSE(d.lags_paced);
+  EXPECT_EQ(d.lag_pace_tenths, control::kLagPaceDefault);
 }
 
 }  // namespace

@@ -42,11 +42,11 @@ design::LtiModel host_model(const HotendModel& m) {
 }
 
 // The board's pole rule in double (state_feedback_autodesign.h), then the host's design at it.
-// paced: T_cl ≥ 1.2·τ2 instead of 0.6·τ2.
-design::Design host_design(const HotendModel& m, bool paced = false) {
+// T_cl ≥ κ·τ2, κ = pace_tenths/10.
+design::Design host_design(const HotendModel& m, uint8_t pace_tenths) {
   const double k = m.rise_q8 / 256.0, t1 = m.time_constant_q8 / 256.0, t2 = m.dead_time_q8 / 256.0, h = 0.256;
   const double t_rise = k > 185 ? t1 * std::log(k * t1 / (t1 - t2) / (k - 185)) : t1;
-  const double c = std::fmin(std::fmin(16 * h / t_rise, h / ((paced ? 1.2 : 0.6) * t2)), 0.5);
+  const double c = std::fmin(std::fmin(16 * h / t_rise, h / (pace_tenths / 10.0 * t2)), 0.5);
   const design::LtiModel model = host_model(m);
   design::DesignOptions o;
   design::Design probe;
@@ -71,7 +71,7 @@ std::vector<TwoLags> grid() {
   return out;
 }
 
-void expect_matches_host_field_by_field(bool paced) {
+void expect_matches_host_field_by_field(uint8_t pace_tenths) {
   double worst_rel = 0;
   int worst_lsb = 0, shift_mismatches = 0;
   std::string worst_rel_field, worst_lsb_field;
@@ -79,8 +79,8 @@ void expect_matches_host_field_by_field(bool paced) {
     SCOPED_TRACE(::testing::Message() << "K " << p.k << " t1 " << p.t1 << " t2 " << p.t2 << " F " << p.f);
     const HotendModel m = board_model(p);
     StateFeedbackConstants board, host;
-    ASSERT_TRUE(control::design_state_feedback_two_lags(m, 128, &board, paced));
-    const design::Design d = host_design(m, paced);
+    ASSERT_TRUE(control::design_state_feedback_two_lags(m, 128, &board, pace_tenths));
+    const design::Design d = host_design(m, pace_tenths);
     ASSERT_EQ(d.error, nullptr);
     const char* err = design::quantize(d, host_model(m).fan_loss_per_k, &host);
     ASSERT_EQ(err, nullptr) << err;
@@ -109,15 +109,21 @@ void expect_matches_host_field_by_field(bool paced) {
       if (rel > worst_rel) worst_rel = rel, worst_rel_field = f.name;
     }
   }
-  std::printf("two-lag design%s, on-board vs host, %zu models: worst relative %.2e (%s), worst %d LSB (%s), "
+  std::printf("two-lag design (pace %.1f), on-board vs host, %zu models: worst relative %.2e (%s), worst %d LSB (%s), "
               "rows at a different shift %d\n",
-              paced ? " (paced)" : "", grid().size(), worst_rel, worst_rel_field.c_str(), worst_lsb, worst_lsb_field.c_str(), shift_mismatches);
+              pace_tenths / 10.0, grid().size(), worst_rel, worst_rel_field.c_str(), worst_lsb, worst_lsb_field.c_str(), shift_mismatches);
 }
 
-TEST(StateFeedbackTwoLags, MatchesTheHostDesignFieldByField) { expect_matches_host_field_by_field(false); }
+// Measured lags (κ 0.4).
+TEST(StateFeedbackTwoLags, MatchesTheHostDesignFieldByField) {
+  expect_matches_host_field_by_field(control::kLagPaceConfirmed);
+}
 
-// The paced law (T_cl ≥ 1.2·τ2: lags fitted with τ2 < τ1/5, control/autotune_design.h).
-TEST(StateFeedbackTwoLags, PacedMatchesTheHostDesignFieldByField) { expect_matches_host_field_by_field(true); }
+// Fitted lags (κ 0.6), and fitted with τ2 < τ1/5 (κ 1.2): control/autotune_design.h.
+TEST(StateFeedbackTwoLags, FittedPacesMatchTheHostDesignFieldByField) {
+  expect_matches_host_field_by_field(control::kLagPaceDefault);
+  expect_matches_host_field_by_field(control::kLagPaceWide);
+}
 
 TEST(StateFeedbackTwoLags, ClosedLoopFollowsTheHostDesignWithinTwoTenthsOfAKelvin) {
   double worst = 0;
@@ -126,8 +132,8 @@ TEST(StateFeedbackTwoLags, ClosedLoopFollowsTheHostDesignWithinTwoTenthsOfAKelvi
     const HotendModel m = board_model(p);
     const design::LtiModel plant = host_model(m);
     StateFeedbackConstants board, host;
-    ASSERT_TRUE(control::design_state_feedback_two_lags(m, 128, &board));
-    ASSERT_EQ(design::quantize(host_design(m), plant.fan_loss_per_k, &host), nullptr);
+    ASSERT_TRUE(control::design_state_feedback_two_lags(m, 128, &board, control::kLagPaceConfirmed));
+    ASSERT_EQ(design::quantize(host_design(m, control::kLagPaceConfirmed), plant.fan_loss_per_k, &host), nullptr);
     const double rise_s = -p.t1 * std::log(1 - 185 / p.k) + p.t2;
     const double fan_at = 2 * rise_s + 4 * p.t2 + 30;
     const std::vector<double> a = closed_loop(plant, board, fan_at, fan_at + 0.5 * p.t1 + 4 * p.t2 + 30);
@@ -157,12 +163,13 @@ TEST(StateFeedbackTwoLags, RefusesModelsItDoesNotDesign) {
   for (const HotendModel& m : bad) {
     StateFeedbackConstants k;
     std::memset(&k, 0x5A, sizeof k);
-    EXPECT_FALSE(control::design_state_feedback_two_lags(m, 128, &k));
+    EXPECT_FALSE(control::design_state_feedback_two_lags(m, 128, &k, control::kLagPaceConfirmed));
     EXPECT_EQ(std::memcmp(&k, &zero, sizeof k), 0);
   }
   StateFeedbackConstants k;
-  EXPECT_TRUE(control::design_state_feedback_two_lags(good, 128, &k));
-  EXPECT_FALSE(control::design_state_feedback_two_lags(good, 0, &k));
+  EXPECT_TRUE(control::design_state_feedback_two_lags(good, 128, &k, control::kLagPaceConfirmed));
+  EXPECT_FALSE(control::design_state_feedback_two_lags(good, 0, &k, control::kLagPaceConfirmed));
+  EXPECT_FALSE(control::design_state_feedback_two_lags(good, 128, &k, 0));
 }
 
 // The corners of what M307 accepts read as two lags: every design passes the runtime's checks
@@ -177,7 +184,7 @@ TEST(StateFeedbackTwoLags, EdgeModelsAreValidOrRefused) {
         SCOPED_TRACE(::testing::Message() << "K " << kk << " t1 " << t << " t2 " << r * t);
         ++total;
         StateFeedbackConstants k;
-        if (!control::design_state_feedback_two_lags(board_model(TwoLags{kk, t, r * t, 500}), 128, &k)) {
+        if (!control::design_state_feedback_two_lags(board_model(TwoLags{kk, t, r * t, 500}), 128, &k, control::kLagPaceConfirmed)) {
           EXPECT_EQ(std::memcmp(&k, &zero, sizeof k), 0);
           continue;
         }

@@ -272,21 +272,21 @@ void Runner::expect_board_design(const std::string& applied) {
   for (int i = 0; i < 4; ++i) q8[i] = static_cast<int32_t>(std::lround(v[i] * 256.0));
   control::StateFeedbackConstants k;
   const bool paced = applied.find("paced by D") != std::string::npos;  // T_cl ≥ D (control/autotune_design.h)
-  // "two lags <τ1> s and <τ2> s[, paced]": the two-lag law on those, with M307's A and F.
+  // "two lags <τ1> s and <τ2> s, pace <κ>": the two-lag law on those (T_cl ≥ κ·τ2), with M307's A and F.
   const std::size_t lags = applied.find("two lags ");
   const bool two_lags = lags != std::string::npos;
-  const bool lags_paced = applied.find(" s, paced)") != std::string::npos;
+  unsigned pace_units = 0, pace_tenths = 0;
   control::HotendModel model{q8[0], q8[1], q8[2], q8[3]};
   if (two_lags) {
     double c = 0, d = 0;
-    if (std::sscanf(applied.c_str() + lags, "two lags %lf s and %lf s", &c, &d) != 2) {
+    if (std::sscanf(applied.c_str() + lags, "two lags %lf s and %lf s, pace %u.%1u", &c, &d, &pace_units, &pace_tenths) != 4) {
       result_.problems.push_back("the applied line's two lags do not read: " + applied);
       return;
     }
     model.time_constant_q8 = static_cast<int32_t>(std::lround(c * 256.0));
     model.dead_time_q8 = static_cast<int32_t>(std::lround(d * 256.0));
   }
-  if (!(two_lags ? control::design_state_feedback_two_lags(model, 128, &k, lags_paced)
+  if (!(two_lags ? control::design_state_feedback_two_lags(model, 128, &k, static_cast<uint8_t>(10 * pace_units + pace_tenths))
                  : control::design_state_feedback_fopdt(model, 128, &k, paced))) {
     result_.problems.push_back("the host's build of the board design refuses the applied " + applied.substr(at));
     return;

@@ -49,12 +49,13 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   int32_t l_q8 = tune.model.dead_time_q8;
   if (tu_floors_dead_time(l_q8, tune.model.time_constant_q8, tune.ultimate.tu_q8)) l_q8 = tune.ultimate.tu_q8 / 4;
   // A cut probe that peaked late (a lag the relay folded into D; not a seed000 unsure model):
-  // D ≥ 1.15·Tu/4. hotend40w-delay5 (host rig, 10 noise seeds at σ 0.1 °C): the relay's D
-  // (6.1–7.8 s) settles in 1.36–1.63 × bound; ×1.15 of Tu/4 1.14–1.19 × on 9 (×1.0: 2 of 10,
-  // ×1.1: 8, ×1.2: 9 at 1.17–1.20); the tenth, C read 27 % long, 1.6–1.7 × at any D.
-  // Tu < 2^26 (Q8, 72 h): Tu·23 fits int32.
+  // D ≥ Tu/4. hotend40w-delay5 (host rig, 8 noise seeds at σ 0.1 °C): the relay's D (7.5–8.2 s)
+  // and ×0.9 of Tu/4 settle in up to 1.42 × bound, ×1.0 in 1.07–1.16 × (overshoot ≤ 0.60 °C),
+  // ×1.15 in 1.11–1.38 × (≤ 1.02 °C), longer D overshoots more (docs/autotune.md, "d held over
+  // the measured cycles of a cut probe"; ×1.15 was best while d still changed between measured
+  // cycles and K read 3–4 % high).
   if (tune.late_peak && !tune.unsure) {
-    const int32_t lifted_q8 = tune.ultimate.tu_q8 * 23 / 80;
+    const int32_t lifted_q8 = tune.ultimate.tu_q8 / 4;
     if (lifted_q8 > l_q8) l_q8 = lifted_q8;
   }
   // The floors and margins lengthen a D that M307 accepted; they stop at its 600 s rather than
@@ -116,7 +117,7 @@ __attribute__((noinline)) bool design_from_tune(const AutotuneResult& tune, uint
   // The state feedback's C and D: the fitted lags, else M307's, as two lags where a lag was seen
   // and D < C/2 strictly (at 2·D = C dead_time_leads already hands U1 to the PID).
   // A lag the relay confirmed: the tune's D is then the two-point dead time, above the tangent's
-  // lag (a lag it did not confirm, or a late peak's, leaves D at the lag or the relay's D).
+  // lag (a cut probe's late peak sets D to its lag).
   out->lag_pace_tenths = fitted ? (5 * tune.second_lag_q8 < tune.first_lag_q8 ? kLagPaceWide : kLagPaceDefault)
                          : tune.sensor_lag_q8 > 0 && tune.model.dead_time_q8 > tune.sensor_lag_q8 ? kLagPaceConfirmed
                                                                                                  : kLagPaceDefault;

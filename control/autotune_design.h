@@ -29,7 +29,7 @@ struct TunedDesign {
   bool lag_paced;
   // The tune saw a thermistor lag (and D < C/2): the state feedback is the two-state design of
   // two lags τ1 = C, τ2 = D (design_state_feedback_two_lags). Host rig after U1, noise seeds
-  // 12345, 1–3: seed003 2.06–2.13 → 0.86–0.89 × bound, heavy-slow 1.68–1.70 → 0.98–1.01 ×
+  // 12345, 1–3: seed003 2.06–2.13 → 0.86–0.89 × bound (0.71–0.73 at κ 0.4, lag_pace_tenths), heavy-slow 1.68–1.70 → 0.98–1.01 ×
   // (docs/autotune.md, "Design"); on the two-node hotends (lag ≤ C/20) overshoot 0.4–1.7 → ≤ 0.2 °C
   // at 0.95–1.11 × (paced: 1.04–1.29 ×). Not without a lag seen (hotend40w-delay5: a transport
   // delay, which two lags without dead time oscillate on).

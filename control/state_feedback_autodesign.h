@@ -42,10 +42,10 @@ bool design_state_feedback_two_lags(const HotendModel& model, uint16_t period_ms
 // the host's saturation search on the true model 0.77), and the plant does not overshoot
 // (docs/autotune.md, "The two-lag law's pace").
 constexpr uint8_t kLagPaceConfirmed = 4;
-// κ for other lags: a cut probe's late peak (heavy-slow), a tangent's lag the relay did not
-// confirm (seed003 at σ 0.3 °C once: C 57.6 s, τ2 5.5 s, 3.9 °C over at κ 0.6, 10.9 at 0.4),
-// lags fitted to an unsure tune's record, which leaves its dead time out (seed000-4: at κ 0.4 the
-// law swung 2.5 °C p-p on the host rig, 0.0–0.2 °C at 0.6).
+// κ for other lags: a cut probe's late peak, whose lag is D (heavy-slow; seed003 at σ 0.3 °C once,
+// its probe cut: C 57.6 s, τ2 5.5 s, 3.9 °C over at κ 0.6, 10.9 at 0.4), and lags fitted to an
+// unsure tune's record, which leaves its dead time out (seed000-4: at κ 0.4 the law swung 2.5 °C
+// p-p on the host rig, 0.0–0.2 °C at 0.6).
 constexpr uint8_t kLagPaceDefault = 6;
 // ... fitted with τ2 < τ1/5: the dead time left out is a larger share of T_cl (seed000-5: ~20 s
 // against τ2 ≈ 122 s; at 0.6·τ2 the law swung 2.6 °C p-p, at 0.8–0.9·τ2 1.5–2.3 °C, from 1.0·τ2 on

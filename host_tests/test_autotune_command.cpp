@@ -266,6 +266,7 @@ TEST(AutotuneCommand, ASmallThermistorLagGetsTheTwoLagStateFeedback) {
   ASSERT_NE(at, std::string::npos) << text;
   double lag1 = 0, lag2 = 0;
   ASSERT_EQ(std::sscanf(text.c_str() + at + applied.size(), "%lf s and %lf s, pace 0.4), M307 A", &lag1, &lag2), 2) << text;
+  EXPECT_NE(text.find(" s, pace 0.4), M307 A"), std::string::npos) << text;  // a lag the relay confirmed
   EXPECT_EQ(std::lround(lag1 * 256), s.model.time_constant_q8);
   EXPECT_EQ(std::lround(lag2 * 256), s.model.dead_time_q8);
   control::StateFeedbackConstants two_lags;

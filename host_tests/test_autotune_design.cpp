@@ -86,19 +86,19 @@ TEST(AutotuneDesign, RelayQuarterPeriodLiftsTheDeadTimeOnlyWhereItMeansALag) {
   EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 24.93, 0.01);
 }
 
-// A cold cut probe that peaked late (a lag the relay folded into D): D ≥ 1.15·Tu/4 (host rig:
-// hotend40w-delay5 1.43–1.45 → 1.15–1.19 × bound, host_tests/test_autotune_after_u1.cpp), and
-// only there; an unsure model keeps its own rule.
-TEST(AutotuneDesign, ALatePeakLiftsTheDeadTimeTo1_15QuarterPeriods) {
-  control::AutotuneResult r = tune_of(615, 275.6, 6.37, 34.5);  // hotend40w-delay5, seed 12345
+// A cold cut probe that peaked late (a lag the relay folded into D): D ≥ Tu/4 (host rig:
+// hotend40w-delay5 at 1.07–1.16 × bound, host_tests/test_autotune_after_u1.cpp), and only there;
+// an unsure model keeps its own rule.
+TEST(AutotuneDesign, ALatePeakLiftsTheDeadTimeToAQuarterPeriod) {
+  control::AutotuneResult r = tune_of(615, 275.6, 6.37, 34.5);  // Tu/4 = 1.35 D: beyond the 1.25 D floor
   control::TunedDesign d;
   ASSERT_TRUE(control::design_from_tune(r, 128, &d));
-  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 6.37, 0.01);  // Tu/4 = 1.35 D: beyond the 1.25 D floor
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 6.37, 0.01);
   r.late_peak = true;
   ASSERT_TRUE(control::design_from_tune(r, 128, &d));
-  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 1.15 * 34.5 / 4, 0.01);
+  EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 34.5 / 4, 0.01);
   EXPECT_FALSE(d.lag_paced);
-  r = tune_of(615, 275.6, 10.5, 34.5);  // a D already beyond 1.15·Tu/4 stays
+  r = tune_of(615, 275.6, 10.5, 34.5);  // a D already beyond Tu/4 stays
   r.late_peak = true;
   ASSERT_TRUE(control::design_from_tune(r, 128, &d));
   EXPECT_NEAR(d.model.dead_time_q8 / 256.0, 10.5, 0.01);
@@ -167,19 +167,25 @@ TEST(AutotuneDesign, TwoLagsWheneverTheTuneSawALag) {
   ASSERT_TRUE(control::design_from_tune(r, 128, &d));
   EXPECT_TRUE(d.two_lags);
   EXPECT_FALSE(d.lag_paced);
+  EXPECT_EQ(d.lag_pace_tenths, control::kLagPaceConfirmed);  // D (two-point) above the tangent's lag
   control::StateFeedbackConstants k;
   ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
   EXPECT_EQ(k.n, 2);
   EXPECT_TRUE(d.two_lags);
   r = tune_of(437, 362.4, 26.62, 29.2);  // heavy-slow
-  r.sensor_lag_q8 = static_cast<int32_t>(26.62 * 256);
+  r.sensor_lag_q8 = r.model.dead_time_q8;   // a late peak's lag: D = the lag
   ASSERT_TRUE(control::design_from_tune(r, 128, &d));
   EXPECT_TRUE(d.two_lags);
+  EXPECT_EQ(d.lag_pace_tenths, control::kLagPaceDefault);
+  r.model.dead_time_q8 = r.sensor_lag_q8 - 1;  // (D below the lag: likewise)
+  ASSERT_TRUE(control::design_from_tune(r, 128, &d));
+  EXPECT_EQ(d.lag_pace_tenths, control::kLagPaceDefault);
   r = tune_of(1226, 257.4, 4.04, 70.6);  // hotend80w: lag 3.46 s ≤ C/20 (paced if refused)
   r.sensor_lag_q8 = static_cast<int32_t>(3.46 * 256);
   ASSERT_TRUE(control::design_from_tune(r, 128, &d));
   EXPECT_TRUE(d.two_lags);
   EXPECT_TRUE(d.lag_paced);
+  EXPECT_EQ(d.lag_pace_tenths, control::kLagPaceConfirmed);
   ASSERT_TRUE(control::design_tuned_state_feedback(&d, 128, &k));
   EXPECT_EQ(k.n, 2);
   r = tune_of(603, 270.3, 7.78, 21.3);  // hotend40w-delay5: no lag seen, a late peak

@@ -1,6 +1,6 @@
 // control/state_feedback_autodesign's two-lag design (n = 2, integer-only) against the host's
 // double-precision design of the same model, design::second_order(K, τ1 = C, τ2 = D) with the
-// board's closed-loop speed (T_cl = max(t_rise/16, 0.6·τ2, 2h) instead of the host's saturation
+// board's closed-loop speed (T_cl = max(t_rise/16, κ·τ2, 2h) instead of the host's saturation
 // search): constants field by field, and both closed loops on the exact two-lag plant.
 #include <gtest/gtest.h>
 
@@ -114,26 +114,28 @@ void expect_matches_host_field_by_field(uint8_t pace_tenths) {
               pace_tenths / 10.0, grid().size(), worst_rel, worst_rel_field.c_str(), worst_lsb, worst_lsb_field.c_str(), shift_mismatches);
 }
 
-// Measured lags (κ 0.4).
+// Lags the relay confirmed (κ 0.4).
 TEST(StateFeedbackTwoLags, MatchesTheHostDesignFieldByField) {
   expect_matches_host_field_by_field(control::kLagPaceConfirmed);
 }
 
-// Fitted lags (κ 0.6), and fitted with τ2 < τ1/5 (κ 1.2): control/autotune_design.h.
-TEST(StateFeedbackTwoLags, FittedPacesMatchTheHostDesignFieldByField) {
+// Other lags (κ 0.6), and fitted ones with τ2 < τ1/5 (κ 1.2): control/autotune_design.h.
+TEST(StateFeedbackTwoLags, SlowerPacesMatchTheHostDesignFieldByField) {
   expect_matches_host_field_by_field(control::kLagPaceDefault);
   expect_matches_host_field_by_field(control::kLagPaceWide);
 }
 
+// At κ 0.4 (a confirmed lag) and 0.6 (other lags).
 TEST(StateFeedbackTwoLags, ClosedLoopFollowsTheHostDesignWithinTwoTenthsOfAKelvin) {
   double worst = 0;
   TwoLags worst_at{};
+  for (const uint8_t pace : {control::kLagPaceConfirmed, control::kLagPaceDefault})
   for (const TwoLags& p : grid()) {
     const HotendModel m = board_model(p);
     const design::LtiModel plant = host_model(m);
     StateFeedbackConstants board, host;
-    ASSERT_TRUE(control::design_state_feedback_two_lags(m, 128, &board, control::kLagPaceConfirmed));
-    ASSERT_EQ(design::quantize(host_design(m, control::kLagPaceConfirmed), plant.fan_loss_per_k, &host), nullptr);
+    ASSERT_TRUE(control::design_state_feedback_two_lags(m, 128, &board, pace));
+    ASSERT_EQ(design::quantize(host_design(m, pace), plant.fan_loss_per_k, &host), nullptr);
     const double rise_s = -p.t1 * std::log(1 - 185 / p.k) + p.t2;
     const double fan_at = 2 * rise_s + 4 * p.t2 + 30;
     const std::vector<double> a = closed_loop(plant, board, fan_at, fan_at + 0.5 * p.t1 + 4 * p.t2 + 30);

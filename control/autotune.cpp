@@ -1441,8 +1441,9 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
   // formulas read as part of the periodic cycle): at σ 0.3 °C over 20 noise seeds K read up to
   // 2.0 % off on the FOPDT plants (now 0.8 %), 2.0 / 3.4 % high on heavy-slow / two-node-delay5
   // (now 0.6 / 0.6 %), F 50.2 / 48.4 % against 42.9 / 42.6 (now 48.1 / 44.7): docs/autotune.md,
-  // "d held over the measured cycles of a cut probe". Not on an untrusted model's (seed000), whose
-  // relay D moved with it (seed000-4: 74 → 76–90 s).
+  // "d held over the measured cycles of a cut probe". Not on an untrusted cut probe's (a response
+  // past the model history: seed000; a retried probe; a plateau), whose relay D moved with it
+  // (seed000-4: 74 → 76–90 s).
   if (settling_cycles_ != 0 && (cycle_index_ <= settling_cycles_ || (!probe_.continuous && untrusted_))) {
     uint32_t d = uint32_t{d_q16_} * kAmplitudeQ8 / a;
     if (d > 2u * d_q16_) d = 2u * d_q16_;

@@ -7,7 +7,7 @@
 //     Kd = 0 — the rule the simulator's `simc` gains use (design/tuning.h, the double reference);
 //     on an unsure tune's fitted lags (M307 their two-point FOPDT) the tight τc = L (`simc-tight`).
 //     L is the identified dead time, raised to Tu/4 where tu_floors_dead_time says (below), and
-//     to 1.15·Tu/4 where the tune's cut probe peaked late (AutotuneResult::late_peak).
+//     to Tu/4 where the tune's cut probe peaked late (AutotuneResult::late_peak).
 // The fuzzy-PID's centre is the M301 gains (firmware/controller_settings.h), so it follows them.
 #pragma once
 

@@ -546,7 +546,7 @@ TEST(AutotuneNoise, Seed0004UntrustedApproachStopsHeatingAboveTheTarget) {
 // and 2 of 20 realisations there take the lag-type rules: 1.4 s), the mean D error within 5 %,
 // K within 1 %: since d is held over a cut probe's measured cycles K is within 0.8 % (was up to
 // 2.0 %: fopdt-300-10 seed 2 459.2), and that realisation's D reads 8.42 s (was 8.79; rms D error
-// over the 48 tunes 5.5 → 5.2 %).
+// over the 40 tunes 5.5 → 5.2 %).
 TEST(AutotuneNoise, FopdtTimeConstantAndDeadTimeOnANoisySensor) {
   double sum_d = 0;
   int n_d = 0;

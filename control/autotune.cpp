@@ -1107,10 +1107,13 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         // A probe cut short while the lags were still filling (a hot start has little room
         // below the target) leaves S low, so the steady duty ū = loss/S comes out high and the
         // approach overshoots. At full power with the lags filled, ẏ = S − rise/T: a steeper
-        // S shown here replaces it (never lowered: a low S only errs towards overshoot).
+        // S shown here replaces it (never lowered: a low S only errs towards overshoot), once
+        // 1/16 steeper, or 1/32 after a lag-type probe: a lag blunts a short pulse's peak, and
+        // two-node-delay5's probe read S 585 (Q8 per bin) against 628, re-learnt here on half the
+        // noise seeds only (622: C 249 or 265 s by K/S; docs/autotune.md, "d held…").
         // at·(1/T) < 2^17, s4 < 2^15: the sum < 2^18, clamped to 2^15 as the probe's S.
         const int32_t s_full = fixed::clamp(s4 + fixed::mul_q16(at, inv_t_q16_), int32_t{0}, int32_t{32767});
-        if (s_full > slope_q8_ + div2n(slope_q8_, 4)) {
+        if (s_full > slope_q8_ + div2n(slope_q8_, ap.lag_probe ? 5 : 4)) {
           slope_q8_ = s_full;
           return 8;
         }

@@ -542,11 +542,11 @@ TEST(AutotuneNoise, Seed0004UntrustedApproachStopsHeatingAboveTheTarget) {
 // extremes outward (T read short) and the switches outward (λ = L/T read short). Before the
 // lift was taken off, at σ 0.3 °C over 20 realisations 62 of the 120 FOPDT tunes had T beyond
 // 10 % and 47 had D beyond 10 % (mean D −7 %); now 1 and 10 (mean +0.4 %). Here realisations
-// 1–8: T within 10 %, D within 16 % (fopdt-30-1's D aside: 1 s, under the relay's resolution,
+// 1–8: T within 10 %, D within 15 % (fopdt-30-1's D aside: 1 s, under the relay's resolution,
 // and 2 of 20 realisations there take the lag-type rules: 1.4 s), the mean D error within 5 %,
 // K within 1 %: since d is held over a cut probe's measured cycles K is within 0.8 % (was up to
-// 2.0 %: fopdt-300-10 seed 2 459.2), and that realisation's D reads 8.42 s (was 8.79; rms D error
-// over the 40 tunes 5.5 → 5.2 %).
+// 2.0 %: fopdt-300-10 seed 2 459.2). (With d held alone that realisation's D read 8.42 s, was
+// 8.79; its probe counts as lag-type, and with the re-learnt S 9.43. Worst D now 10.3 %.)
 TEST(AutotuneNoise, FopdtTimeConstantAndDeadTimeOnANoisySensor) {
   double sum_d = 0;
   int n_d = 0;
@@ -559,7 +559,7 @@ TEST(AutotuneNoise, FopdtTimeConstantAndDeadTimeOnANoisySensor) {
       EXPECT_NEAR(q8(m.time_constant_q8), p.t, 0.10 * p.t) << p.name << " seed " << seed;
       EXPECT_NEAR(q8(m.rise_q8), p.k, 0.01 * p.k) << p.name << " seed " << seed;
       if (p.name == "fopdt-30-1") continue;
-      EXPECT_NEAR(q8(m.dead_time_q8), p.l, 0.16 * p.l) << p.name << " seed " << seed;
+      EXPECT_NEAR(q8(m.dead_time_q8), p.l, 0.15 * p.l) << p.name << " seed " << seed;
       sum_d += (q8(m.dead_time_q8) - p.l) / p.l;
       ++n_d;
     }

@@ -905,6 +905,13 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   ap.ref_rise_q8 = rise;
   ap.ref_slope_q8 = 0;
   ap.loss_estimates = 0;
+  // A trusted tangent probe's loss is unknown (ū = 0) until learnt at full power (stage 4) or, where
+  // the heat-up is too short for that (seed003: 128 °C at the hand-over, 82 °C below the target),
+  // near the target (stage 3). Until then the approach takes the heat in flight behind the lag the
+  // heat-up measured, whatever its size: the loss learnt near the target raises ū while the lag
+  // still holds heat back (an envelope hotend, K 700 °C, τ1 100 s, τ2 15 s: S + 5.5 °C without).
+  ap.near_only = probe_.continuous && !untrusted_;
+  if (ap.near_only && ap.lag_q4 == 0) ap.lag_q4 = probe_.lag_q4;
   ap.full_bins = on;
   ap.duty_avg_q16 = 0;
   ap.settled_bins = 0;
@@ -1064,14 +1071,19 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // exactly. Only while the duty has been steady (within 8 %) over L̂ + 6 bins: in transients
       // a dead time that is off by a bin would pass for a loss error.
       const uint8_t hb = ap.bins;
+      ap.unlearnt = ap.steady_bins < hb + 6;
       if (ap.full_bins == 0 && rise > 20 * kQ8 && ap.steady_bins >= hb + 6) {
         const int32_t s4 = slope4_q8();
         const int32_t centre = rise - 2 * s4;
         const int32_t model_slope = heat_q8(duty_ago(hb + 2)) -
                                     fixed::mul_q16(centre, inv_t_q16_);
         const int32_t err = model_slope - s4;  // > 0: more loss than the model has
-        // |err| ≤ 2^18 (clamped) × 2^13 < 2^31.
-        const int32_t step = static_cast<int32_t>(static_cast<uint32_t>(abs32(err) > 262143 ? 262143 : abs32(err)) * 8192u / static_cast<uint32_t>(centre));
+        // ⅛ of the error per bin, ¼ where the loss is learnt near the target only (near_only): its
+        // P law around ū = 0 stalls far short (seed003: 36 °C) and waits on this.
+        // |err| ≤ 2^18 (clamped) × 2^14 < 2^32.
+        const uint32_t rate = ap.near_only ? 16384u : 8192u;
+        const int32_t step = static_cast<int32_t>(static_cast<uint32_t>(abs32(err) > 262143 ? 262143 : abs32(err)) * rate / static_cast<uint32_t>(centre));
+        if (32 * step > inv_t_q16_) ap.unlearnt = true;
         inv_t_q16_ = static_cast<uint16_t>(fixed::clamp(static_cast<int32_t>(inv_t_q16_) + (err > 0 ? step : -step), int32_t{0}, int32_t{16384}));
       }
       return 4;
@@ -1097,6 +1109,11 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
           if (ap.loss_estimates != 0) inv_t = static_cast<uint32_t>(inv_t_q16_ + div2n(static_cast<int32_t>(inv_t) - inv_t_q16_, 2));
           const bool first = ap.loss_estimates == 0;
           ap.loss_estimates = 1;
+          if (ap.near_only) {
+            // Learnt at full power: the approach's usual rules (a lag under 1.5 × L̂ is left out).
+            ap.near_only = false;
+            if (int32_t{ap.lag_q4} <= 3 * horizon_ticks_) ap.lag_q4 = 0;
+          }
           inv_t_q16_ = static_cast<uint16_t>(inv_t);
           // The deadbeat on a model without loss (a flat cut probe that showed none) built its
           // history without it, and over-predicted the heat in flight by the loss over L̂ bins
@@ -1131,9 +1148,15 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       model_q8_ = (p >= 65536 ? rise : fixed::mul_q16(rise, static_cast<uint16_t>(p))) + static_cast<int32_t>(held > 480000u ? 480000u : held);
       return 5;
     }
-    case 5:
-      ap.steady_q16 = steady_from_model();
+    case 5: {
+      // A duty change that is ū's alone (the loss learnt near the target) keeps the duty "steady"
+      // for stage 3: else each step of the learning held off the next for L̂ + 6 bins (seed003:
+      // the approach crawled 205 → 209.5 °C over 40 s). ū's change < 2^16, ÷ 2^8 < 2^8.
+      const int32_t u = steady_from_model();
+      if (ap.near_only) ap.steady_ref = static_cast<int16_t>(ap.steady_ref + ((u - ap.steady_q16) >> 8));
+      ap.steady_q16 = u;
       return 6;
+    }
     case 6: {
       // (A lag probe's heat in flight: 2/5 of the L̂ model's + 3/5 of the last D's; each < 2^20.)
       int32_t in_flight = model_ago(0) - model_delayed();
@@ -1178,7 +1201,12 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // average the relay's bias starts from (its zeros there failed seed000-4's relay at σ 0.1).
       if (guard_off_ && y_bin_q8_ > target_q8_) duty_q16_ = 0;
       // (An untrusted model's P law may stall short of the target: the relay takes over nearer.)
-      ap.settled_bins = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? 4 * kSettleBandQ8 : kSettleBandQ8)
+      // Where the loss is learnt near the target only, not while that learning still moves 1/T
+      // (or waits on a moving duty): a relay started on a ū 10 % low swung 4 °C below and then
+      // drifted to S + 3.4 °C (seed003, σ 0.04). A loss never learnt (held with the heater off)
+      // has nothing to wait for.
+      const bool learning = ap.near_only && ap.unlearnt && inv_t_q16_ != 0;
+      ap.settled_bins = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? 4 * kSettleBandQ8 : kSettleBandQ8) && !learning
                           ? static_cast<uint8_t>(ap.settled_bins + 1)
                           : 0;
       // A P law on a slightly wrong loss stalls short of the target, and the loss learning's

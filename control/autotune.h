@@ -378,7 +378,10 @@ class Autotune {
     uint8_t det_bins;        // D: the probe's pulse-to-response time in bins
     int32_t det_flight_q8;   // 3/5 of the model's rise over the last D bins (stage 1 for stage 6)
     bool overshot;           // the reading went 1 °C past the target (no relay without a settling cycle)
-    uint16_t lag_q4;         // a continuous probe's measured lag where it is over 1.5 × L̂ (bins × 16), else 0
+    bool near_only;          // a trusted tangent probe's loss, not yet learnt at full power (stage 3 learns it)
+    bool unlearnt;           // this bin's loss learning waited on a moving duty or moved 1/T by over 1/32
+    uint16_t lag_q4;         // a continuous probe's measured lag where it is over 1.5 × L̂, or while
+                             // near_only (bins × 16), else 0
   };
   Approach appr_ = {};
   int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)

@@ -579,6 +579,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     // tangent's (the bank's lag-type plants: 0.9–1.2 ×), the approach takes the heat in flight
     // behind it too (stage 6). L̂ stays the tangent's: the relay and compute read it, and on a
     // two-lag hotend (60 / 30 s) the lag, which takes the block for an integrator, reads long.
+    // (A cold probe's approach takes any measured lag until it learns the loss: begin_stage.)
     appr_.lag_q4 = int32_t{p.lag_q4} > 3 * horizon_ticks_ ? p.lag_q4 : 0;
     return 6;
   }
@@ -905,12 +906,13 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   ap.ref_rise_q8 = rise;
   ap.ref_slope_q8 = 0;
   ap.loss_estimates = 0;
-  // A trusted tangent probe's loss is unknown (ū = 0) until learnt at full power (stage 4) or, where
-  // the heat-up is too short for that (seed003: 128 °C at the hand-over, 82 °C below the target),
-  // near the target (stage 3). Until then the approach takes the heat in flight behind the lag the
-  // heat-up measured, whatever its size: the loss learnt near the target raises ū while the lag
-  // still holds heat back (an envelope hotend, K 700 °C, τ1 100 s, τ2 15 s: S + 5.5 °C without).
-  ap.near_only = probe_.continuous && !untrusted_;
+  // A trusted cold tangent probe's loss is unknown (ū = 0; a hot start's comes from its decay)
+  // until learnt at full power (stage 4) or, where the heat-up is too short for that (seed003:
+  // 128 °C at the hand-over, 82 °C below the target), near the target (stage 3). Until then the
+  // approach takes the heat in flight behind the lag the heat-up measured, whatever its size: the
+  // loss learnt near the target at ¼ per bin raised ū while the lag still held heat back (an
+  // envelope hotend, K 700 °C, τ1 100 s, τ2 15 s: S + 5.5 °C without).
+  ap.near_only = probe_.continuous && !untrusted_ && inv_t_q16_ == 0;
   if (ap.near_only && ap.lag_q4 == 0) ap.lag_q4 = probe_.lag_q4;
   ap.full_bins = on;
   ap.duty_avg_q16 = 0;
@@ -1066,10 +1068,11 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       return 3;
     case 3: {
       // Loss learning near the target, where the heater is not at full power: the model's slope
-      // S·u(t − L̂) − x/T against the reading's 4-bin slope; the error moves 1/T by ⅛ per bin.
-      // This keeps the model's steady state on the real one, so the predictor holds the target
-      // exactly. Only while the duty has been steady (within 8 %) over L̂ + 6 bins: in transients
-      // a dead time that is off by a bin would pass for a loss error.
+      // S·u(t − L̂) − x/T against the reading's 4-bin slope; the error moves 1/T by ⅛ per bin (¼
+      // while near_only). This keeps the model's steady state on the real one, so the predictor
+      // holds the target exactly. Only while the duty has been steady (within 8 %, ū's own
+      // changes aside while near_only: case 5) over L̂ + 6 bins: in transients a dead time that is
+      // off by a bin would pass for a loss error.
       const uint8_t hb = ap.bins;
       ap.unlearnt = ap.steady_bins < hb + 6;
       if (ap.full_bins == 0 && rise > 20 * kQ8 && ap.steady_bins >= hb + 6) {
@@ -1080,7 +1083,8 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         const int32_t err = model_slope - s4;  // > 0: more loss than the model has
         // ⅛ of the error per bin, ¼ where the loss is learnt near the target only (near_only): its
         // P law around ū = 0 stalls far short (seed003: 36 °C) and waits on this.
-        // |err| ≤ 2^18 (clamped) × 2^14 < 2^32.
+        // |err| ≤ 2^18 (clamped) × 2^14 < 2^32; centre > 20 °C (5,120 in Q8) keeps the quotient
+        // < 2^20, and 32 × step < 2^25.
         const uint32_t rate = ap.near_only ? 16384u : 8192u;
         const int32_t step = static_cast<int32_t>(static_cast<uint32_t>(abs32(err) > 262143 ? 262143 : abs32(err)) * rate / static_cast<uint32_t>(centre));
         if (32 * step > inv_t_q16_) ap.unlearnt = true;
@@ -1152,6 +1156,9 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // A duty change that is ū's alone (the loss learnt near the target) keeps the duty "steady"
       // for stage 3: else each step of the learning held off the next for L̂ + 6 bins (seed003:
       // the approach crawled 205 → 209.5 °C over 40 s). ū's change < 2^16, ÷ 2^8 < 2^8.
+      // (The change is floored, so ū's steps under 1/256 are not followed and small rises
+      // accumulate until the band restarts the window. Following them exactly was slower: seed003
+      // at σ 0.1 °C 237 → 253 s, σ 0.5 267 → 276 s over 8 realisations.)
       const int32_t u = steady_from_model();
       if (ap.near_only) ap.steady_ref = static_cast<int16_t>(ap.steady_ref + ((u - ap.steady_q16) >> 8));
       ap.steady_q16 = u;
@@ -1304,6 +1311,21 @@ uint8_t Autotune::relay_stage(uint8_t stage) {
   uint32_t ratio_q8 = static_cast<uint32_t>(target_q8_ - ambient_q8_) * 256u / static_cast<uint32_t>(rise);
   if (ratio_q8 > 1024) ratio_q8 = 1024;
   const int32_t estimate = static_cast<int32_t>((static_cast<uint32_t>(u > 131071 ? 131071 : u) * ratio_q8) >> 8);
+  const bool unknown = bias_unknown_;
+  bias_unknown_ = false;
+  if (unknown && cycle_index_ == 0) {
+    // The relay's first cycle, on a bias that said nothing (set_levels: levels 0 and 2d; a high
+    // half's nudge, a low half's level is 0): on a strong heater (K 1,300 °C, d 0.5 %, ū 14 %) the
+    // reading fell from S to S − 120 °C at 1 % a nudge (below), and the relay ended `did not
+    // hold`. The fall with the heater all but off is the loss, but read through a lag's transient
+    // (τ2 21 s: ū +35 %): levels 0 and the estimate (1.5 × it swung to S + 14.8 °C; the estimate
+    // as the bias put both levels above ū: S + 25 °C), and this cycle becomes a settling one
+    // (if it was to be measured), which finds the bias and d. (estimate < 2^20.)
+    if (settling_cycles_ == 0) settling_cycles_ = kSettlingCycles;
+    d_q16_ = clamp_step(static_cast<uint32_t>(estimate) / 2u);
+    bias_q16_ = d_q16_;
+    return 0;
+  }
   // At most 2·d per nudge: on a hotend slower than its probe showed, the drift is not yet the
   // steady one, and large moves would build up a swing.
   const int32_t limit = 2 * static_cast<int32_t>(d_q16_);
@@ -1317,7 +1339,10 @@ uint8_t Autotune::relay_stage(uint8_t stage) {
 // wrapped the low level bias − d to 99.7 %: full power in the low half, a 4 °C/s hotend heated
 // from S to the S + 25 °C abort. Levels 0 and 1 % then held no oscillation.)
 void Autotune::set_levels() {
-  if (bias_q16_ < kMinDutyStepQ16) bias_q16_ = d_q16_;
+  if (bias_q16_ < kMinDutyStepQ16) {
+    bias_q16_ = d_q16_;
+    bias_unknown_ = true;
+  }
   if (d_q16_ > bias_q16_) d_q16_ = bias_q16_;
   if (d_q16_ > kFull - bias_q16_) d_q16_ = static_cast<uint16_t>(kFull - bias_q16_);
 }
@@ -1460,6 +1485,7 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
     // it held a 18 °C limit cycle (9 °C overshoot, then settled, with the bias adapted).
     const uint32_t mean = cyc_duty_done_ / (period_ticks_ > 0 ? period_ticks_ : 1u);
     bias_q16_ = static_cast<uint16_t>(mean > kFull ? kFull : mean);
+    bias_unknown_ = false;
     return 4;
   }
   // d towards ±1.5 °C: ≤ 2^16 · 384 < 2^25. Not once the measuring began without a settling

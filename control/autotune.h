@@ -21,14 +21,18 @@
 //             After a cold cut probe with a sharp peak (L̂ to the tick, the predictor's delay
 //             interpolated between bins): deadbeat (full power until the undelayed model is a
 //             bin's heat from the target), then twice the slow law's gain. A cut probe that
-//             peaked late against its response D (a sensor lag, quiet sensor): D + (L̂ − D)/2.5
+//             peaked late against its response D (a sensor lag, quiet sensor): D + (L̂ − D)/2.5.
+//             A cold tangent probe too short to learn the loss at full power: 1/T learnt near the
+//             target at ¼ per bin, ū's own steps not counted as duty changes, the heat in flight
+//             behind the measured lag taken, and no hand-over while that learning still moves
 //   relay     biased relay (levels bias ± d, hysteresis ±0.2 °C on a 4-reading mean, wider on a
 //             noisy sensor; with a trusted model no half shorter than L̂/2, or L̂ on a
 //             dead-time hotend read through σ > 0.3 °C noise while within 2 °C) around the
 //             target; bias = last cycle's mean duty, d for ±1.5 °C, a drifting relay re-biased
 //             from its drift; one settling cycle, then max(2, C − 3) measured. No settling cycle
 //             after an approach that settled (deadbeat or lag-type): a first low half ≥ L̂, and d
-//             kept from then on
+//             kept from then on. A bias under the smallest d (an approach held with the heater
+//             off): levels 0 and 2d, then levels 0 and the first nudge's ū, in a settling cycle
 //   fan step  part fan at 100 %, the heater held open loop at the last relay cycle's mean duty
 //             (the reading can only fall); from L̂ + 2 bins on (2 L̂ + 2 lag-type) a window of
 //             ⌈C/2⌉ × (L̂/2 + 4) bins, ended once the reading fell 8 °C: its mean rise and its
@@ -379,13 +383,14 @@ class Autotune {
     int32_t det_flight_q8;   // 3/5 of the model's rise over the last D bins (stage 1 for stage 6)
     bool overshot;           // the reading went 1 °C past the target (no relay without a settling cycle)
     bool near_only;          // a trusted tangent probe's loss, not yet learnt at full power (stage 3 learns it)
-    bool unlearnt;           // this bin's loss learning waited on a moving duty or moved 1/T by over 1/32
+    bool unlearnt;           // this bin's loss learning waited on a moving duty or moved 1/T by over 1/32 of itself
     uint16_t lag_q4;         // a continuous probe's measured lag where it is over 1.5 × L̂, or while
                              // near_only (bins × 16), else 0
   };
   Approach appr_ = {};
   int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)
   bool guard_off_ = false;      // relay: heater off while the trend would carry the reading too high
+  bool bias_unknown_ = false;   // relay: the bias said nothing of the steady duty (set_levels) until the next nudge or cycle
   uint8_t guard_bins_ = 0;
 
   // Relay.

@@ -1041,10 +1041,11 @@ TEST(Autotune, ContinuousProbeApproachesOnTheMeasuredLag) {
 }
 
 // A tangent probe whose loss is learnt near the target only learns it at ¼ per bin, unblocked by
-// its own ū steps; on a 15 s sensor lag under 1.5 × the tangent's dead time (11.2 against 7.5
-// bins) that learning raised ū while the lag still held heat back, and the approach went to
-// S + 5.5 °C. The approach now takes the heat in flight behind any measured lag until the loss is
-// learnt at full power (envelope survey grid, 66850095…).
+// its own ū steps. On a 15 s sensor lag under 1.5 × the tangent's dead time (11.2 against 7.5
+// bins) that learning alone raised ū while the lag still held heat back, and the approach went to
+// S + 5.5 °C (the slower ⅛ learning before it stayed within S + 3 °C). So the approach also takes
+// the heat in flight behind any measured lag until the loss is learnt at full power; this guards
+// the pair (envelope survey grid, 66850095…).
 TEST(Autotune, LossLearntNearTheTargetApproachesOnAnyMeasuredLag) {
   expect_envelope_tune({"668500", {700, 99.6293177, 15.0235294, 0, 0.335294118, 0.0494117647, 0.0470588235, 25.0392157, 0, 7}, 65280, 5, true});
 }
@@ -1054,4 +1055,12 @@ TEST(Autotune, LossLearntNearTheTargetApproachesOnAnyMeasuredLag) {
 // the relay's first (low) half heated from S to the S + 25 °C abort.
 TEST(Autotune, RelayLowLevelNeverWrapsToFullPower) {
   expect_envelope_tune({"ffff00", {1300, 299.599332, 10.0352941, 0, 0.335294118, 0.0494117647, 0.0470588235, 25.0392157, 0, 7}, 51893, 5, true});
+}
+
+// The same start (the approach held the target with the heater off, so the relay's bias said
+// nothing: levels 0 and 2d) on a strong heater behind a 21 s lag: the reading fell from S to
+// S − 120 °C while the 2d limit moved the bias 1 % a nudge, and the relay ended `did not hold`
+// (envelope survey grid, ff8526…). Its first nudge now sets levels 0 and the fall's ū.
+TEST(Autotune, RelayWithNoBiasTakesTheLossFromItsFirstFall) {
+  expect_envelope_tune({"ff8526", {1300, 99.6293177, 21.2745098, 3.7254902, 0.335294118, 0.0494117647, 0.0470588235, 25.0392157, 0, 7}, 51893, 5, true});
 }

@@ -579,7 +579,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     // tangent's (the bank's lag-type plants: 0.9–1.2 ×), the approach takes the heat in flight
     // behind it too (stage 6). L̂ stays the tangent's: the relay and compute read it, and on a
     // two-lag hotend (60 / 30 s) the lag, which takes the block for an integrator, reads long.
-    // (A cold probe's approach takes any measured lag until it learns the loss: begin_stage.)
+    // (While the loss is learnt near the target only, the approach takes any measured lag: stage 6.)
     appr_.lag_q4 = int32_t{p.lag_q4} > 3 * horizon_ticks_ ? p.lag_q4 : 0;
     return 6;
   }
@@ -908,12 +908,8 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   ap.loss_estimates = 0;
   // A trusted cold tangent probe's loss is unknown (ū = 0; a hot start's comes from its decay)
   // until learnt at full power (stage 4) or, where the heat-up is too short for that (seed003:
-  // 128 °C at the hand-over, 82 °C below the target), near the target (stage 3). Until then the
-  // approach takes the heat in flight behind the lag the heat-up measured, whatever its size: the
-  // loss learnt near the target at ¼ per bin raised ū while the lag still held heat back (an
-  // envelope hotend, K 700 °C, τ1 100 s, τ2 15 s: S + 5.5 °C without).
+  // 128 °C at the hand-over, 82 °C below the target), near the target (stage 3).
   ap.near_only = probe_.continuous && !untrusted_ && inv_t_q16_ == 0;
-  if (ap.near_only && ap.lag_q4 == 0) ap.lag_q4 = probe_.lag_q4;
   ap.full_bins = on;
   ap.duty_avg_q16 = 0;
   ap.settled_bins = 0;
@@ -1075,7 +1071,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // off by a bin would pass for a loss error.
       const uint8_t hb = ap.bins;
       ap.unlearnt = ap.steady_bins < hb + 6;
-      if (ap.full_bins == 0 && rise > 20 * kQ8 && ap.steady_bins >= hb + 6) {
+      if (ap.full_bins == 0 && rise > 20 * kQ8 && !ap.unlearnt) {
         const int32_t s4 = slope4_q8();
         const int32_t centre = rise - 2 * s4;
         const int32_t model_slope = heat_q8(duty_ago(hb + 2)) -
@@ -1113,11 +1109,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
           if (ap.loss_estimates != 0) inv_t = static_cast<uint32_t>(inv_t_q16_ + div2n(static_cast<int32_t>(inv_t) - inv_t_q16_, 2));
           const bool first = ap.loss_estimates == 0;
           ap.loss_estimates = 1;
-          if (ap.near_only) {
-            // Learnt at full power: the approach's usual rules (a lag under 1.5 × L̂ is left out).
-            ap.near_only = false;
-            if (int32_t{ap.lag_q4} <= 3 * horizon_ticks_) ap.lag_q4 = 0;
-          }
+          ap.near_only = false;  // learnt at full power: the approach's usual rules
           inv_t_q16_ = static_cast<uint16_t>(inv_t);
           // The deadbeat on a model without loss (a flat cut probe that showed none) built its
           // history without it, and over-predicted the heat in flight by the loss over L̂ bins
@@ -1169,9 +1161,13 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       int32_t in_flight = model_ago(0) - model_delayed();
       if (ap.lag_probe && bins_ > ap.det_bins) in_flight = fixed::mul_q16(in_flight, 26214) + ap.det_flight_q8;
       // Behind a first-order sensor lag τ the block leads the reading by τ·ẏ at any duty (the
-      // 4-bin slope < 2^15 per bin, × τ < 2^12 bins × 16).
-      if (ap.lag_q4 != 0) {
-        const int32_t lag_flight = (slope4_q8() * ap.lag_q4) >> 4;
+      // 4-bin slope < 2^15 per bin, × τ < 2^12 bins × 16). While the loss is learnt near the
+      // target only, behind any lag the heat-up measured, not only one over 1.5 × L̂: that
+      // learning at ¼ per bin raised ū while the lag still held heat back (an envelope hotend,
+      // K 700 °C, τ1 100 s, τ2 15 s: S + 5.5 °C without).
+      const uint16_t lag_q4 = ap.near_only ? probe_.lag_q4 : ap.lag_q4;
+      if (lag_q4 != 0) {
+        const int32_t lag_flight = (slope4_q8() * lag_q4) >> 4;
         if (lag_flight > in_flight) in_flight = lag_flight;
       }
       const int32_t predicted = y_bin_q8_ + in_flight;
@@ -1485,7 +1481,6 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
     // it held a 18 °C limit cycle (9 °C overshoot, then settled, with the bias adapted).
     const uint32_t mean = cyc_duty_done_ / (period_ticks_ > 0 ? period_ticks_ : 1u);
     bias_q16_ = static_cast<uint16_t>(mean > kFull ? kFull : mean);
-    bias_unknown_ = false;
     return 4;
   }
   // d towards ±1.5 °C: ≤ 2^16 · 384 < 2^25. Not once the measuring began without a settling

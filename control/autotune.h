@@ -384,13 +384,12 @@ class Autotune {
     bool overshot;           // the reading went 1 °C past the target (no relay without a settling cycle)
     bool near_only;          // a trusted tangent probe's loss, not yet learnt at full power (stage 3 learns it)
     bool unlearnt;           // this bin's loss learning waited on a moving duty or moved 1/T by over 1/32 of itself
-    uint16_t lag_q4;         // a continuous probe's measured lag where it is over 1.5 × L̂, or while
-                             // near_only (bins × 16), else 0
+    uint16_t lag_q4;         // a continuous probe's measured lag where it is over 1.5 × L̂ (bins × 16), else 0
   };
   Approach appr_ = {};
   int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)
   bool guard_off_ = false;      // relay: heater off while the trend would carry the reading too high
-  bool bias_unknown_ = false;   // relay: the bias said nothing of the steady duty (set_levels) until the next nudge or cycle
+  bool bias_unknown_ = false;   // relay: the bias said nothing of the steady duty (set_levels) until the next nudge
   uint8_t guard_bins_ = 0;
 
   // Relay.

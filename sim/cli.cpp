@@ -75,7 +75,7 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the cont
   --autotune: the user story of issue 7 — `M303 E0 S<target> C<cycles> U1 F<0|1>` first (the
   board identifies the hotend and designs its controllers), then a cool-down to 2 % of the way
   from ambient to the target, then M104 and the timed commands as usual. The report adds the
-  tune's duration, its maximum above S and the identified model; --check adds: the tune finished
+  tune's duration, its maximum above S (once at or below S) and the identified model; --check adds: the tune finished
   and applied, never more than --max-tune-overshoot (5 °C) above S. --tune-from C: a hot start
   (M109 S<C> before M303); --after-tune: G-code sent when the tune has ended (e.g. "M310 S2 F1":
   another controller on the tuned settings); --save-settings FILE: then M503's setting lines

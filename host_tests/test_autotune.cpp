@@ -183,8 +183,14 @@ TEST(Autotune, Table) {
   const double noise = noise_env != nullptr ? std::atof(noise_env) : 0.1;
   const char* seed_env = std::getenv("AUTOTUNE_SEED");  // another noise realisation (12345)
   const unsigned long long seed = seed_env != nullptr ? std::strtoull(seed_env, nullptr, 10) : 12345;
-  for (const Plant& p : plants()) {
-    TuneRun r = run(p, cycles, true, noise, trace != nullptr && p.name == trace, 1.0, -1, false, 1800, seed);  // the firmware's limit
+  // AUTOTUNE_FROM=<°C from the target> starts each plant held there (a hot start; −60: a standby
+  // temperature, +20: above the target), AUTOTUNE_TARGET_SHIFT=<°C> moves each plant's target.
+  const char* from_env = std::getenv("AUTOTUNE_FROM");
+  const char* shift_env = std::getenv("AUTOTUNE_TARGET_SHIFT");
+  for (Plant p : plants()) {
+    if (shift_env != nullptr) p.target_c += std::atof(shift_env);
+    const double start_c = from_env != nullptr ? p.target_c + std::atof(from_env) : -1;
+    TuneRun r = run(p, cycles, true, noise, trace != nullptr && p.name == trace, 1.0, start_c, false, 1800, seed);  // the firmware's limit
     const double budget = p.budget_s > 0 ? p.budget_s : r.heatup_s + 180;
     std::printf("%-16s %6.1f %6.1f %6.2f %6d | %7.1f %7.1f | %6.2f %6.1f | %6.2f %6.2f | %5.1f %5.1f | %5.2f | %5.0f %5.0f %5.0f max@%4.0f %s%s\n", p.name.c_str(),
                 r.duration_s, budget, r.max_c - p.target_c, r.cycles, q8(r.result.model.rise_q8), p.k,

@@ -1128,14 +1128,15 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         // at·(1/T) < 2^17, s4 < 2^15: the sum < 2^18, clamped to 2^15 as the probe's S.
         const int32_t s_full = fixed::clamp(s4 + fixed::mul_q16(at, inv_t_q16_), int32_t{0}, int32_t{32767});
         if (s_full > slope_q8_ + div2n(slope_q8_, ap.lag_probe ? 5 : 4)) {
-          // A hot start's pulse (short: little room below the target) that peaked at under a
-          // third of this rate was blunted by a sensor lag, whose heat in flight the model, built
-          // on the pulse's short cut-to-peak time, leaves out: seed003 from 150 °C (lags 28 and
-          // 14 s, its pulse read a quarter of the rate) overshot to S + 15.3 °C. The reading's
-          // own trend then bounds the approach, as on an untrusted model (stage 6): S + 0.8 °C.
-          // Not below 3 ×: the two-node hotends re-learn 1.5–2.3 × from a hot start and stay
-          // within S + 1.6 °C without it, where the guard cost them 45–200 s.
-          if (hot_start_ && s_full > 3 * slope_q8_) ap.blunted = true;
+          // A hot start's pulse (short: little room below the target) that peaked at under ⅔ of
+          // this rate was blunted by a sensor lag, whose heat in flight the model, built on the
+          // pulse's short cut-to-peak time, leaves out: seed003 (lags 28 and 14 s) from 110–160 °C
+          // overshot to S + 7.2..15.3 °C (its pulses read 1.9–4.8 × low). The reading's own trend
+          // then bounds the approach, as on an untrusted model (stage 6): S + 0.6..2.7 °C. It costs
+          // the two-node hotends, which re-learn 1.3–2.3 × from a hot start and stayed within
+          // S + 1.6 °C without it, 50–200 s (hotend40w 200 → 240 °C: 241 → 294 s); at 3 × they were
+          // spared but seed003 from 120–135 °C still went to S + 10..13 °C.
+          if (hot_start_ && 2 * s_full > 3 * slope_q8_) ap.blunted = true;
           slope_q8_ = s_full;
           return 8;
         }

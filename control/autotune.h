@@ -384,7 +384,7 @@ class Autotune {
     bool overshot;           // the reading went 1 °C past the target (no relay without a settling cycle)
     bool near_only;          // a trusted tangent probe's loss, not yet learnt at full power (stage 3 learns it)
     bool unlearnt;           // this bin's loss learning waited on a moving duty or moved 1/T by over 1/32 of itself
-    bool blunted;            // a hot start's pulse read under a third of the full-power rate (a missed lag)
+    bool blunted;            // a hot start's pulse read under ⅔ of the full-power rate (a missed lag): trend guard
     uint16_t lag_q4;         // a continuous probe's measured lag where it is over 1.5 × L̂ (bins × 16), else 0
   };
   Approach appr_ = {};

@@ -1150,8 +1150,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // x(now) = rise·p + S·(1 − p)·T, p = (1 − 1/T)^hb. S < 2^15 × (1 − p) < 2^16 < 2^31; the
       // quotient clamped as the model is (±30,000 °C·16).
       const uint32_t p = seed_history(horizon_bins_, inv_t_q16_);
-      const uint32_t held = inv_t_q16_ != 0 ? (static_cast<uint32_t>(slope_q8_) * (65536u - p)) / inv_t_q16_
-                                            : static_cast<uint32_t>(slope_q8_) * horizon_bins_;
+      const uint32_t held = (static_cast<uint32_t>(slope_q8_) * (65536u - p)) / inv_t_q16_;
       model_q8_ = (p >= 65536 ? rise : fixed::mul_q16(rise, static_cast<uint16_t>(p))) + static_cast<int32_t>(held > 480000u ? 480000u : held);
       return 5;
     }

@@ -24,7 +24,9 @@
 //             peaked late against its response D (a sensor lag, quiet sensor): D + (L̂ − D)/2.5.
 //             A cold tangent probe too short to learn the loss at full power: 1/T learnt near the
 //             target at ¼ per bin, ū's own steps not counted as duty changes, the heat in flight
-//             behind the measured lag taken, and no hand-over while that learning still moves
+//             behind the measured lag taken, and no hand-over while that learning still moves.
+//             A hot start whose pulse read the full-power rate over 1.5 × low (a sensor lag it
+//             missed): the reading's trend guard, as on an untrusted model
 //   relay     biased relay (levels bias ± d, hysteresis ±0.2 °C on a 4-reading mean, wider on a
 //             noisy sensor; with a trusted model no half shorter than L̂/2, or L̂ on a
 //             dead-time hotend read through σ > 0.3 °C noise while within 2 °C) around the

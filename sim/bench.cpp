@@ -70,7 +70,7 @@ std::vector<Column> columns(bool variants, bool disturbance, bool tune, const st
                       return r.tune && r.tune->finished ? format_fixed(r.tune->duration_s(), 0) : std::string("-");
                     }});
     cols.push_back({"tune max − S °C", [](const BenchCase&, const RunResult& r) {
-                      return r.tune ? format_fixed(r.tune->max_true_c - r.config.target_c, 2) : std::string("-");
+                      return r.tune && r.tune->max_true_c ? format_fixed(*r.tune->max_true_c - r.config.target_c, 2) : std::string("-");
                     }});
     cols.push_back({"model: tuned / true (A C D F)", [](const BenchCase&, const RunResult& r) {
                       if (!r.tune) return std::string("-");

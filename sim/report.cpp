@@ -85,8 +85,9 @@ void print_report(std::ostream& out, const RunResult& r) {
   if (r.tune) {
     const TuneOutcome& t = *r.tune;
     out << "autotune (M303)    " << (t.end_s ? format_fixed(t.duration_s(), 1) + " s, " : std::string("did not end, "))
-        << t.cycle_lines << " relay cycles, max " << format_fixed(t.max_true_c - c.target_c, 2)
-        << " °C above S; " << (t.result_line.empty() ? std::string("no result line") : t.result_line) << "\n";
+        << t.cycle_lines << " relay cycles, "
+        << (t.max_true_c ? "max " + format_fixed(*t.max_true_c - c.target_c, 2) + " °C above S; " : std::string("never at or below S; "))
+        << (t.result_line.empty() ? std::string("no result line") : t.result_line) << "\n";
     if (!t.model_line.empty()) out << "  identified       " << t.model_line << "\n";
     if (!t.pid_line.empty()) out << "  designed         " << t.pid_line << "\n";
     if (t.applied) out << "  applied (U1)     " << t.applied_line << "\n";
@@ -146,10 +147,13 @@ std::vector<std::string> failed_checks(const RunResult& r, const CheckLimits& li
             "no `PID Autotune failed!` line after the fault during M303");
   } else if (r.config.autotune) {
     require(r.tune && r.tune->finished, "M303 did not finish" + (r.tune ? ": " + r.tune->result_line : std::string()));
-    if (r.tune && r.tune->end_s)
-      require(r.tune->max_true_c <= r.config.target_c + limits.max_tune_overshoot_c,
-              "M303 reached " + format_fixed(r.tune->max_true_c - r.config.target_c, 2) + " °C above S > " +
-                  format_fixed(limits.max_tune_overshoot_c, 2));
+    if (r.tune && r.tune->end_s) {
+      require(r.tune->max_true_c.has_value(), "M303 ended without the hotend ever at or below S");
+      if (r.tune->max_true_c)
+        require(*r.tune->max_true_c <= r.config.target_c + limits.max_tune_overshoot_c,
+                "M303 reached " + format_fixed(*r.tune->max_true_c - r.config.target_c, 2) + " °C above S > " +
+                    format_fixed(limits.max_tune_overshoot_c, 2));
+    }
     if (r.config.autotune->apply) require(r.tune && r.tune->applied, "M303 U1 did not apply its result");
     if (r.tune && r.tune->board_design_matches_host)
       require(*r.tune->board_design_matches_host,

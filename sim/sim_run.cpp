@@ -123,9 +123,8 @@ Runner::Runner(const RunConfig& config)
 
 void Runner::on_plant_step(double now, double true_c) {
   if (result_.tune && !result_.tune->end_s) {
-    TuneOutcome& t = *result_.tune;
-    if (true_c <= config_.target_c) t.been_at_or_below_target = true;
-    if (t.been_at_or_below_target) t.max_true_c = std::max(t.max_true_c, true_c);
+    std::optional<double>& max_c = result_.tune->max_true_c;
+    if (max_c || true_c <= config_.target_c) max_c = std::max(max_c.value_or(true_c), true_c);
   }
   if (cooling_) {
     const double ambient = config_.plant.ambient_c;

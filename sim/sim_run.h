@@ -54,9 +54,9 @@ struct TuneOutcome {
   bool applied = false;
   // Highest true temperature between start and end, counted from the first sample at or below
   // S: a tune started above the target (after printing hotter) first cools, and issue 7's
-  // S + 5 °C bounds what the tune itself heats to, not where the hotend was.
-  double max_true_c = -1e9;
-  bool been_at_or_below_target = false;
+  // S + 5 °C bounds what the tune itself heats to, not where the hotend was. nullopt: never at
+  // or below S (e.g. a tune from above stopped while it cooled).
+  std::optional<double> max_true_c;
   std::string result_line;   // "PID Autotune finished! …" or the failure line
   std::string model_line;    // the M307 the tune identified (without the echo: prefix)
   std::string pid_line;      // the M301 it designed

@@ -205,7 +205,7 @@ int32_t Autotune::seconds_q8(uint16_t ticks) const {
   return fixed::mul_round(ticks, fixed::Multiplier{tick_s_whole_, tick_s_frac_});
 }
 
-bool Autotune::start(int32_t target_q8, uint8_t cycles, bool measure_fan, int32_t ambient_q8) {
+bool Autotune::start(int32_t target_q8, uint8_t cycles, bool measure_fan, int32_t ambient_q8, int32_t hold_gain_q8) {
   const uint16_t period_ms = period_ms_ != 0 ? period_ms_ : 128;
   const uint32_t timeout_ticks = timeout_ticks_;
   // Forget the last run, keep the configuration. Byte by byte (every member is a plain integer,
@@ -233,6 +233,8 @@ bool Autotune::start(int32_t target_q8, uint8_t cycles, bool measure_fan, int32_
   // max(2, C − 3) measured ones (with the drift correction two gave A within 1 % on the FOPDT
   // plants; C5's former four cost 2 × 4 L̂); the fan step's window is ⌈C/2⌉ × (L̂/2 + 4) bins.
   nofan_measure_ = static_cast<uint8_t>(cycles > 5 ? cycles - 3 : 2);
+  // K ≥ 1/16 °C per unit duty kept (< 4,096 °C: SteadyHold's K ≤ 4,000), else none.
+  hold_gain_q4_ = static_cast<uint16_t>(hold_gain_q8 >= 16 && hold_gain_q8 < (1L << 20) ? hold_gain_q8 >> 4 : 0);
   start_q8_ = INT32_MIN;
   enter(Phase::kBaseline);
   return true;
@@ -717,6 +719,18 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
       // Nothing in a minute: a weaker hotend than assumed (or a dead heater). A 4× longer
       // pulse is safe: the last one raised it by less than 0.5 °C.
       if (++p.retries > 3) {
+        // A hot start's baseline decays on, and its extrapolation (the decay rate of 3 bins)
+        // drifts from the reading over four minutes of retries: once, a new baseline where it
+        // has cooled to (heavy-slow, seed000 from S − 30..S + 20 °C: false "no heating"). Only
+        // with the hold's K: without it, seed000's second probe at σ 0.1 read a model that took
+        // it to S + 6.8..17.8 °C (docs/autotune.md, "A steady hold").
+        if (hot_start_ && hold_gain_q4_ != 0 && !probe_again_) {
+          probe_again_ = true;
+          p.retries = 0;
+          heater_on_ = false;
+          enter(Phase::kBaseline);
+          return 0;
+        }
         fail(AutotuneFailure::kNoHeating);
         return 0;
       }
@@ -852,6 +866,20 @@ uint32_t Autotune::seed_history(uint8_t on, uint16_t a_q16) {
 uint8_t Autotune::begin_stage(uint8_t stage) {
   Approach& ap = near(appr_);
   if (stage == 20) {
+    ap.blunted = false;
+    // After a hold, S/(1/T) must come out as the hold's K. A hot start's short pulse reads S low
+    // behind a sensor lag (seed003 from 110 °C: S 1,189 against ≈ 2,070; two-node-80W from
+    // S − 10: 684 against 1,256) while its decay gives 1/T within ~10 %: S = K/T where that is
+    // steeper (never lowered: a low S errs towards overshoot), and over 1.5 × steeper is a
+    // missed lag, as stage 4 finds at full power: the trend guard. K in Q8 < 2^20, × 1/T (≤ 2^14,
+    // Q16) / 2^16 < 2^18 (mul_q16: exact, no 64-bit product).
+    if (hot_start_ && hold_gain_q4_ != 0) {
+      const int32_t s_held = fixed::mul_q16(int32_t{hold_gain_q4_} << 4, inv_t_q16_);
+      if (s_held > slope_q8_) {
+        if (2 * s_held > 3 * slope_q8_) ap.blunted = true;
+        slope_q8_ = s_held > 32767 ? 32767 : s_held;
+      }
+    }
     if (slope_q8_ < 8) slope_q8_ = 8;
     if (horizon_ticks_ < kTicksPerBin) horizon_ticks_ = kTicksPerBin;
     const uint32_t hb = (static_cast<uint32_t>(horizon_ticks_) + kTicksPerBin - 1) / kTicksPerBin + 1;
@@ -910,7 +938,6 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   // until learnt at full power (stage 4) or, where the heat-up is too short for that (seed003:
   // 128 °C at the hand-over, 82 °C below the target), near the target (stage 3).
   ap.near_only = probe_.continuous && !untrusted_ && inv_t_q16_ == 0;
-  ap.blunted = false;
   ap.full_bins = on;
   ap.duty_avg_q16 = 0;
   ap.settled_bins = 0;
@@ -1004,6 +1031,14 @@ __attribute__((noinline)) int32_t Autotune::noise_floor(int32_t fixed_q8, uint8_
 
 // One 32-bit division: loss ≤ 2^14 (°C/bin × 256, clamped), × 2^16 < 2^31.
 int32_t Autotune::steady_from_model() const {
+  // A hot start after a steady hold: ū = (S − ambient)/K from the hold's K, not loss/S from a
+  // probe that read S and 1/T off a decaying baseline (two-node-80W from S − 10: ū 0.30 against
+  // 0.157, S + 6.0..6.8 °C; docs/autotune.md, "A steady hold"). The rise (≤ 250 °C: < 2^16 in Q8,
+  // capped there) × 2^16 < 2^32; K ≥ 1 in Q4, × 16 in Q8.
+  if (hot_start_ && hold_gain_q4_ != 0 && target_q8_ > ambient_q8_) {
+    const uint32_t u = capped_ratio_q16(static_cast<uint32_t>(target_q8_ - ambient_q8_), 65535, uint32_t{hold_gain_q4_} << 4);
+    return static_cast<int32_t>(u > kFull ? kFull : u);
+  }
   const uint32_t loss = static_cast<uint32_t>(fixed::mul_q16(target_q8_ - ambient_q8_, inv_t_q16_));
   const uint32_t u = capped_ratio_q16(loss, 16383, static_cast<uint32_t>(slope_q8_));
   return static_cast<int32_t>(u > kFull ? kFull : u);
@@ -1047,6 +1082,24 @@ void Autotune::model_anchor() {
   // An untrusted model's relay: heater off while the trend would carry the reading
   // past target + 2 °C.
   guard_off_ = untrusted_ && trend_q8(kGuardSigmaQ4) > target_q8_ + kGuardMarginQ8;
+}
+
+// Stage 4's (and 10's) S re-learnt at full power: taken once 1/16 steeper (1/32 after a lag-type
+// probe); the next stage, 8 (the gain for the new S) or 5.
+uint8_t Autotune::relearn_slope(int32_t s_full) {
+  Approach& ap = near(appr_);
+  if (s_full <= slope_q8_ + div2n(slope_q8_, ap.lag_probe ? 5 : 4)) return 5;
+  // A hot start's pulse (short: little room below the target) that peaked at under ⅔ of
+  // this rate was blunted by a sensor lag, whose heat in flight the model, built on the
+  // pulse's short cut-to-peak time, leaves out: seed003 (lags 28 and 14 s) from 110–160 °C
+  // overshot to S + 7.2..15.3 °C (its pulses read 1.9–4.8 × low). The reading's own trend
+  // then bounds the approach, as on an untrusted model (stage 6): S + 0.6..2.7 °C. It costs
+  // the two-node hotends, which re-learn 1.3–2.3 × from a hot start and stayed within
+  // S + 1.6 °C without it, 50–200 s (hotend40w 200 → 240 °C: 241 → 294 s); at 3 × they were
+  // spared but seed003 from 120–135 °C still went to S + 10..13 °C.
+  if (hot_start_ && 2 * s_full > 3 * slope_q8_) ap.blunted = true;
+  slope_q8_ = s_full;
+  return 8;
 }
 
 uint8_t Autotune::approach_stage(uint8_t stage) {
@@ -1126,25 +1179,31 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         // two-node-delay5's probe read S 585 (Q8 per bin) against 628, re-learnt here on half the
         // noise seeds only (622: C 249 or 265 s by K/S; docs/autotune.md, "d held…").
         // at·(1/T) < 2^17, s4 < 2^15: the sum < 2^18, clamped to 2^15 as the probe's S.
-        const int32_t s_full = fixed::clamp(s4 + fixed::mul_q16(at, inv_t_q16_), int32_t{0}, int32_t{32767});
-        if (s_full > slope_q8_ + div2n(slope_q8_, ap.lag_probe ? 5 : 4)) {
-          // A hot start's pulse (short: little room below the target) that peaked at under ⅔ of
-          // this rate was blunted by a sensor lag, whose heat in flight the model, built on the
-          // pulse's short cut-to-peak time, leaves out: seed003 (lags 28 and 14 s) from 110–160 °C
-          // overshot to S + 7.2..15.3 °C (its pulses read 1.9–4.8 × low). The reading's own trend
-          // then bounds the approach, as on an untrusted model (stage 6): S + 0.6..2.7 °C. It costs
-          // the two-node hotends, which re-learn 1.3–2.3 × from a hot start and stayed within
-          // S + 1.6 °C without it, 50–200 s (hotend40w 200 → 240 °C: 241 → 294 s); at 3 × they were
-          // spared but seed003 from 120–135 °C still went to S + 10..13 °C.
-          if (hot_start_ && 2 * s_full > 3 * slope_q8_) ap.blunted = true;
-          slope_q8_ = s_full;
-          return 8;
-        }
+        // After a hold, the exact rate (stage 10: its own division, the loss learning above has one).
+        if (hot_start_ && hold_gain_q4_ != 0) return 10;
+        return relearn_slope(fixed::clamp(s4 + fixed::mul_q16(at, inv_t_q16_), int32_t{0}, int32_t{32767}));
       }
       return 5;
     case 8:
       set_approach_gain();
-      return 5;
+      // (After a hold ū is the hold's, whatever S: stage 5 has nothing to do, and after stage 10
+      // this bin has no step left for it.)
+      return hot_start_ && hold_gain_q4_ != 0 ? 6 : 5;
+    case 10: {
+      // After a hold K is known, and at full power ẏ = S·(1 − rise/K) exactly, whatever 1/T the
+      // probe read (none, from above the target: hotend40w 230 → 210 °C re-learnt S 465 against
+      // 629, and its loss, learnt to match, gave T 368 s against 245.6). The same 4-bin slope and
+      // rise as stage 4 (this bin's). s4 < 2^15 × K (Q4) < 2^16: < 2^31; only while the rise is
+      // under ¾ K (the quotient < 4 × s4).
+      const int32_t s4 = slope4_q8();
+      const int32_t at_q4 = (rise - 2 * s4) >> 4;
+      const int32_t k_q4 = hold_gain_q4_;
+      if (s4 <= 0 || 4 * at_q4 >= 3 * k_q4) {
+        return relearn_slope(fixed::clamp(s4 + fixed::mul_q16(rise - 2 * s4, inv_t_q16_), int32_t{0}, int32_t{32767}));
+      }
+      const uint32_t s_full = (static_cast<uint32_t>(s4) * static_cast<uint32_t>(k_q4)) / static_cast<uint32_t>(k_q4 - at_q4);
+      return relearn_slope(s_full > 32767u ? 32767 : static_cast<int32_t>(s_full));
+    }
     case 9: {
       // At full power over the whole history (case 4 learns only after hb + 4 such bins):
       // x(now) = rise·p + S·(1 − p)·T, p = (1 − 1/T)^hb. S < 2^15 × (1 − p) < 2^16 < 2^31; the
@@ -1937,6 +1996,7 @@ bool Autotune::compute_chunk() {
       m.rise_q8 = v.k_q8;
       result_.ambient_q8 = ambient_q8_;
       result_.hot_start = hot_start_;
+      result_.held_gain = hot_start_ && hold_gain_q4_ != 0;
       result_.unsure = untrusted_;
       result_.noise_q8 = noise_n_ >= 16 ? noise_q8_ : AutotuneResult::kNoiseUnmeasured;
       // The fit's two lags where its K agrees with the relay's within 1/8 (a record two lags do

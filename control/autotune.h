@@ -116,6 +116,7 @@ struct AutotuneResult {
   // An unsure cold tune whose whole record fits two lags (Autotune::LagFit): τ1 and τ2 (s × 256;
   // model stays the relay's FOPDT), 0 otherwise.
   int32_t first_lag_q8, second_lag_q8;
+  bool held_gain;           // a hot start that took its steady duty from the hold's K (start())
   static constexpr uint16_t kNoiseUnmeasured = 0xFFFF;
 };
 
@@ -147,11 +148,15 @@ class Autotune {
 
   // Starts a tune (false, and state kFailed/kBadParameters, if an argument is out of range):
   // target 50..275 °C, cycles 3..20, ambient_q8 = kMeasureAmbient to take the reading at start
-  // when the hotend is cold (else 25 °C is assumed), or the ambient in °C × 256.
-  bool start(int32_t target_q8, uint8_t cycles, bool measure_fan, int32_t ambient_q8 = kMeasureAmbient);
+  // when the hotend is cold (else 25 °C is assumed), or the ambient in °C × 256. hold_gain_q8:
+  // the static gain K (°C × 256 per unit duty, from 25 °C) of a steady hold before the tune
+  // (control/steady_hold.h), 0 if none: a hot start then takes its steady duty ū from it.
+  bool start(int32_t target_q8, uint8_t cycles, bool measure_fan, int32_t ambient_q8 = kMeasureAmbient,
+             int32_t hold_gain_q8 = 0);
 
   // Heater off, state kFailed/kAborted.
   void abort();
+
 
   // One control period with the thermistor reading (°C × 256).
   AutotuneOutput step(int32_t measured_q8);
@@ -171,6 +176,7 @@ class Autotune {
   uint16_t inv_t_q16() const { return inv_t_q16_; }         // 1/T per bin, Q16
   uint8_t overruns() const { return overruns_; }  // bin logic not finished within its bin (0)
   uint16_t noise_q8() const { return noise_q8_; }  // reading noise σ measured so far (°C × 256)
+  bool hot_start() const { return hot_start_; }  // started above ambient + 15 °C (known after 3 bins)
   bool untrusted() const { return untrusted_; }     // the probe's model is not trusted (trend guard)
   uint8_t approach_law() const { return appr_.landed; }  // 0 deadbeat, 1 landed, 2 (3) the slow law (after a flat probe's deadbeat)
   bool lag_probe() const { return appr_.lag_probe; }
@@ -195,6 +201,7 @@ class Autotune {
   int32_t lag_sigma_q6(int32_t k_q8) const;
   uint8_t begin_stage(uint8_t stage);
   uint8_t approach_stage(uint8_t stage);
+  uint8_t relearn_slope(int32_t s_full);
   uint8_t relay_stage(uint8_t stage);
   void fan_stage();
   void end_fan_step();
@@ -346,6 +353,10 @@ class Autotune {
   Probe probe_ = {};
   int32_t start_q8_ = 0;       // reading at start()
   bool cooled_ = false;        // a hot start has shown its decay
+  // A hot start after a hold whose probe saw nothing after its retries cools on and probes once
+  // more, from a new baseline (the decay it drifted on hid the few-tick pulses: heavy-slow, seed000).
+  bool probe_again_ = false;
+  uint16_t hold_gain_q4_ = 0;  // start()'s hold_gain_q8 in °C × 16 (0: none; 2 B of RAM)
   // Reading noise, measured while nothing but noise moves the reading (baseline, cooling, the
   // probe until its response shows): Σ|second difference| over noise_n_ readings, and the σ
   // it gives (°C × 256). The probe's thresholds, the relay's hysteresis and the trend guard's
@@ -468,7 +479,7 @@ class Autotune {
 
   AutotuneCycle cycle_{0, 0, 0, 0};
   AutotuneUltimate ultimate_{0, 0};
-  AutotuneResult result_{{0, 0, 0, 0}, 0, {0, 0}, 0, false, false, false, 0, 0, 0};
+  AutotuneResult result_{{0, 0, 0, 0}, 0, {0, 0}, 0, false, false, false, 0, 0, 0, false};
 };
 
 }  // namespace control

@@ -59,6 +59,13 @@ __attribute__((noinline)) void ControlLoop::run(uint16_t adc_q6) {
       if (fault == Fault::kStuckOn) stuck_reported_ = true;
     }
   }
+  // The hold's K for a later M303 (outside the timed step; one division every 65 s). A tune's
+  // own duty is no hold, and a tune ends with K from its relay: the hold's is then forgotten.
+  if (tune_.busy()) {
+    hold_.reset();
+  } else if (plausible) {
+    hold_.update(heater_.target_q8(), temp_q8_, ran_q16, hal::fan_pwm::duty());
+  }
   if (newly_latched) unreported_ = static_cast<uint16_t>(unreported_ | (1u << static_cast<uint8_t>(fault)));
   // Outside the timed step (the 5-state state feedback's has little to spare): the next
   // period's airflow, with the duty the pin has now (M106 before then retargets it).

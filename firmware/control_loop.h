@@ -7,6 +7,7 @@
 
 #include "control/fan_airflow.h"
 #include "control/model_check.h"
+#include "control/steady_hold.h"
 #include "firmware/controller_autotune.h"
 #include "firmware/controller_settings.h"
 #include "firmware/gcode_output.h"
@@ -39,6 +40,8 @@ class ControlLoop {
   void restart_protection();
   // The part fan's pin, and the airflow the next period's controllers see (control/fan_airflow.h).
   void set_fan_duty(uint8_t duty);
+  // The static gain of the last steady hold (control/steady_hold.h), for M303; 0 if none.
+  int32_t hold_gain_q8() const { return hold_.static_gain_q8(); }
 
  private:
   // Latches `fault` (heater off at once) and ends an M303; false if a fault was already latched.
@@ -49,6 +52,7 @@ class ControlLoop {
   ThermalWatch watch_;
   control::ModelCheck check_;
   control::FanAirflow airflow_;  // the part fan's airflow, lagging its pin
+  control::SteadyHold hold_;     // measured while a controller holds its target (not during M303)
   control::HotendModel check_model_{0, 0, 0, 0};  // what check_ was configured with
   uint8_t check_tuned_ = 0xFF;                    // 0xFF: never configured
   uint8_t check_threshold_c_ = 0;

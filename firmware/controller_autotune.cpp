@@ -48,8 +48,9 @@ __attribute__((noinline)) void write_design(gcode::Output& out, const control::A
   write_gain_line(out, GCODE_TEXT("Ki"), d.pid.ki_q16);
   write_gain_line(out, GCODE_TEXT("Kd"), d.pid.kd_q16);
   out.print(echo_autotune_text());
-  out.print(r.hot_start ? GCODE_TEXT("model (hot start: cool-down, relay")
-                        : GCODE_TEXT("model (cold start: heat-up, relay"));
+  out.print(!r.hot_start  ? GCODE_TEXT("model (cold start: heat-up, relay")
+            : r.held_gain ? GCODE_TEXT("model (hot start: the gain of the hold before M303, cool-down, relay")
+                          : GCODE_TEXT("model (hot start: cool-down, relay"));
   out.print(r.model.fan_loss_pct_q8 != 0 ? GCODE_TEXT(", part fan): ") : GCODE_TEXT("): "));
   write_m307(out, r.model);
   // An unsure tune's two-lag fit (control/lag_fit.h): the applied M307 is their two-point FOPDT.
@@ -125,7 +126,7 @@ __attribute__((noinline)) void write_sf_summary(gcode::Output& out, const contro
 }  // namespace
 
 bool AutotuneJob::begin(const gcode::Command& cmd, gcode::Output& out, const gcode::FlashText* refusal,
-                        uint8_t fan_duty) {
+                        uint8_t fan_duty, int32_t hold_gain_q8) {
   if (!cmd.valid(out)) return false;
   int32_t heater = 0, target_q8 = kDefaultTargetQ8, cycles = kDefaultCycles, use = 0, fan = 1;
   if (!cmd.integer('E', -1, 0x7FFF, &heater, out)) return false;
@@ -148,7 +149,7 @@ bool AutotuneJob::begin(const gcode::Command& cmd, gcode::Output& out, const gco
   }
   bank_.begin_autotune();
   tune_.configure(kControlPeriodMs);
-  if (!tune_.start(target_q8, static_cast<uint8_t>(cycles), fan != 0)) {  // cannot fail: checked above
+  if (!tune_.start(target_q8, static_cast<uint8_t>(cycles), fan != 0, control::Autotune::kMeasureAmbient, hold_gain_q8)) {  // cannot fail: checked above
     bank_.end_autotune();
     out.error_line(GCODE_TEXT("PID Autotune failed! Bad parameters"));
     return false;
@@ -232,7 +233,11 @@ void AutotuneJob::write_failure(gcode::Output& out) const {
     case control::AutotuneFailure::kTooHot: out.print(GCODE_TEXT("Temperature too high")); break;
     case control::AutotuneFailure::kTimeout: out.print(GCODE_TEXT("timeout")); break;
     case control::AutotuneFailure::kNoHeating:
-      out.print(GCODE_TEXT("No heating: full power did not raise the temperature (heater, thermistor?)"));
+      // From a hot start the probe's pulses are short and ride on the decay: hold the hotend
+      // steady first (its gain then lets the probe start again: control/steady_hold.h).
+      out.print(tune_.hot_start() ? GCODE_TEXT("No heating seen from a hot start: hold the target steady for 70 s (or let "
+                                               "it cool), then M303 again; if it persists, check the heater and thermistor")
+                                  : GCODE_TEXT("No heating: full power did not raise the temperature (heater, thermistor?)"));
       break;
     case control::AutotuneFailure::kNoOscillation:
       out.print(GCODE_TEXT("The relay oscillation did not hold around the target"));

@@ -41,8 +41,9 @@ class AutotuneJob {
   // M303 (the command is M303): prints the Error line and returns false for bad parameters or
   // when `refusal` (the machine's reason, e.g. a latched fault) is set; else starts the tune,
   // prints "PID Autotune start", and the caller sets the heater's target to target_q8().
+  // hold_gain_q8: the static gain of a steady hold just before (ControlLoop::hold_gain_q8), 0 if none.
   bool begin(const gcode::Command& cmd, gcode::Output& out, const gcode::FlashText* refusal,
-             uint8_t fan_duty);
+             uint8_t fan_duty, int32_t hold_gain_q8);
   bool running() const { return bank_.autotuning() && tune_.state() == control::AutotuneState::kRunning; }
   // Running, or ended with lines still to print (the caller ends the heating when it turns false).
   bool busy() const { return running() || pending_ != 0; }

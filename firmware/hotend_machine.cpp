@@ -58,7 +58,7 @@ bool HotendMachine::handle_command(const gcode::Command& cmd, gcode::Output& out
     const gcode::FlashText* refusal = heater_.fault() != Fault::kNone
                                           ? GCODE_TEXT("PID Autotune failed! Heater fault latched, send M999 to clear")
                                           : (tune_.busy() ? autotune_busy_text() : nullptr);
-    if (tune_.begin(cmd, out, refusal, hal::fan_pwm::duty())) heater_.set_target_q8(tune_.target_q8());
+    if (tune_.begin(cmd, out, refusal, hal::fan_pwm::duty(), loop_.hold_gain_q8())) heater_.set_target_q8(tune_.target_q8());
     return true;
   }
   // M307/M310/M311/M312/M570 with parameters change the settings; bare, they only report.

@@ -66,7 +66,7 @@ class TuneMachine final : public gcode::Machine {
     if (cmd.letter == 'M' && cmd.code == 303) {
       const gcode::FlashText* refusal =
           fault ? GCODE_TEXT("PID Autotune failed! Heater fault latched, send M999 to clear") : (job.busy() ? kBusy : nullptr);
-      if (job.begin(cmd, out, refusal, fan)) target_q8 = job.target_q8();
+      if (job.begin(cmd, out, refusal, fan, 0)) target_q8 = job.target_q8();
       return true;
     }
     if (job.busy() && cmd.letter == 'M' && cmd.code >= 307 && cmd.code <= 312 && *cmd.params != '\0') {

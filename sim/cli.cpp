@@ -34,7 +34,7 @@ const char* const kUsage = R"(usage:
              [--fault KIND@T] [--max-detect S] [--max-block-above C] [--check] [--max-overshoot C] [--max-steady-error C]
              [--max-report-error C] [--max-steady-p2p C] [--max-recovery S]
              [--max-recovery-ratio R] [--transcript FILE] [--quiet]
-             [--autotune [--tune-cycles N] [--tune-fan 0|1] [--tune-from C] [--max-tune-overshoot C]
+             [--autotune [--tune-cycles N] [--tune-fan 0|1] [--tune-from C [--tune-hold S]] [--max-tune-overshoot C]
              [--max-model-error PCT] [--after-tune "CMD;CMD"] [--save-settings FILE]] [--settings FILE]
              [--expect-reply TEXT]...
              [--svg FILE] [--eeprom-timing simavr|silicon] [--max-step-gap-ms MS]
@@ -77,7 +77,8 @@ run: boots the firmware ELF in simavr on the plant, sends M301 (gains), the cont
   from ambient to the target, then M104 and the timed commands as usual. The report adds the
   tune's duration, its maximum above S (once at or below S) and the identified model; --check adds: the tune finished
   and applied, never more than --max-tune-overshoot (5 °C) above S. --tune-from C: a hot start
-  (M109 S<C> before M303); --after-tune: G-code sent when the tune has ended (e.g. "M310 S2 F1":
+  (M109 S<C> before M303), --tune-hold S: held there S s first (≥ 66 s: the board then takes the
+  hotend's gain from the hold, control/steady_hold.h); --after-tune: G-code sent when the tune has ended (e.g. "M310 S2 F1":
   another controller on the tuned settings); --save-settings FILE: then M503's setting lines
   (M307 … M301, as commands) to FILE. --settings FILE (no --autotune): those lines first, on a
   fresh board, read back with M503 (--check: the same), then the run as usual — a tune's
@@ -120,7 +121,7 @@ int run_command(const std::vector<std::string>& args) {
   reject_unknown(o, {"board", "plant", "controller", "target", "seconds", "csv", "noise-lsb", "seed", "gains",
                      "gains-rule", "gcode", "elf", "fault", "max-detect", "max-block-above", "transcript", "max-overshoot", "max-steady-error",
                      "max-report-error", "max-steady-p2p", "max-recovery", "max-recovery-ratio",
-                     "tune-cycles", "tune-fan", "tune-from", "after-tune", "max-tune-overshoot", "max-model-error",
+                     "tune-cycles", "tune-fan", "tune-from", "tune-hold", "after-tune", "max-tune-overshoot", "max-model-error",
                      "svg", "expect-reply", "eeprom-timing", "max-step-gap-ms", "save-settings", "settings"});
   RunConfig c;
   c.board = board_named(o.get("board", "ramps14"));
@@ -149,6 +150,7 @@ int run_command(const std::vector<std::string>& args) {
     a.cycles = static_cast<int>(parse_number(o.get("tune-cycles", "5"), "--tune-cycles"));
     a.fan = parse_number(o.get("tune-fan", "1"), "--tune-fan") != 0;
     if (o.has("tune-from")) a.hot_start_c = parse_number(o.get("tune-from"), "--tune-from");
+    if (o.has("tune-hold")) a.hold_s = parse_number(o.get("tune-hold"), "--tune-hold");
     for (const TimedCommand& t : parse_gcode(o.get("after-tune"))) a.after.push_back(t.line);
     a.save_settings_path = o.get("save-settings");
     if (c.print_like) a.cool_to_fraction = 1.0;  // the print starts when the tune ends

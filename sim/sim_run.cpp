@@ -52,6 +52,7 @@ class Runner {
   void on_plant_step(double now_s, double true_c);
   void on_line(const ReplyLine& line);
   void start_setup();
+  void send_tune();  // M303 with the run's target and options
   void send_heat_up();
   void on_tune_line(const std::string& text, double t_s);
   void send_due_commands(double now_s);
@@ -78,6 +79,7 @@ class Runner {
   std::optional<double> reset_after_fault_s_;          // first CPU reset after the fault
   uint64_t heater_turn_ons_at_that_reset_ = 0;         // heater().turn_on_count() right after it
   bool cooling_ = false;  // the tune has ended: waiting for the hotend to cool before M104
+  std::optional<double> tune_send_s_;  // --tune-hold: when the hold is over and M303 goes out
   void expect_board_design(const std::string& applied);
   // Sends M503 and hands `done` its setting lines as commands (settings_command).
   void capture_settings(std::function<void(const std::vector<std::string>&)> done);
@@ -139,6 +141,10 @@ void Runner::on_plant_step(double now, double true_c) {
 }
 
 void Runner::send_due_commands(double now_s) {
+  if (tune_send_s_ && now_s >= *tune_send_s_) {
+    tune_send_s_.reset();
+    send_tune();
+  }
   if (result_.tune) {  // commands and faults timed from the tune's start
     const double t = now_s - result_.tune->start_s;
     for (TimedCommand& c : tune_timed_)
@@ -220,7 +226,17 @@ void Runner::start_setup() {
   session_.send("M155 S1");
   if (!config_.autotune) return send_heat_up();
   const AutotuneConfig& a = *config_.autotune;
+  if (a.hot_start_c && a.hold_s > 0) {
+    // Held at the start temperature (as a printer idling there) before M303: send_due_commands.
+    session_.send("M109 S" + format_decimal(*a.hot_start_c), [this, &a](double t_ok) { tune_send_s_ = t_ok + a.hold_s; });
+    return;
+  }
   if (a.hot_start_c) session_.send("M109 S" + format_decimal(*a.hot_start_c));
+  send_tune();
+}
+
+void Runner::send_tune() {
+  const AutotuneConfig& a = *config_.autotune;
   session_.send("M303 E0 S" + format_decimal(config_.target_c) + " C" + std::to_string(a.cycles) +
                     " U" + (a.apply ? "1" : "0") + " F" + (a.fan ? "1" : "0"),
                 [this](double t_ok) {

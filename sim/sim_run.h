@@ -39,6 +39,7 @@ struct AutotuneConfig {
   bool apply = true;
   double cool_to_fraction = 0.02;
   std::optional<double> hot_start_c;  // `M109 S<this>` first: a hot start, as after a print
+  double hold_s = 0.0;  // ... then held there this long before M303 (the firmware's steady hold: ≥ 65.5 s)
   std::vector<std::string> after;     // sent when the tune has ended (e.g. another M310 choice)
   // --save-settings FILE: once the tune has ended and `after` was sent, M503's setting lines
   // (the commands, without `echo:` and comments) are written here, for --settings runs to

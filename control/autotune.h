@@ -27,6 +27,9 @@
 //             behind the measured lag taken, and no hand-over while that learning still moves.
 //             A hot start whose pulse read the full-power rate over 1.5 × low (a sensor lag it
 //             missed): the reading's trend guard, as on an untrusted model
+//             A hot start after a steady hold (start()'s hold_gain_q8: control/steady_hold.h): ū
+//             from the hold's K, S at least K/T at the hand-over, S re-learnt at full power as
+//             ẏ·K/(K − rise) (stage 10), and one more probe from a new baseline if it saw nothing
 //   relay     biased relay (levels bias ± d, hysteresis ±0.2 °C on a 4-reading mean, wider on a
 //             noisy sensor; with a trusted model no half shorter than L̂/2, or L̂ on a
 //             dead-time hotend read through σ > 0.3 °C noise while within 2 °C) around the

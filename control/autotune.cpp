@@ -724,7 +724,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
         // has cooled to (heavy-slow, seed000 from S − 30..S + 20 °C: false "no heating"). Only
         // with the hold's K: without it, seed000's second probe at σ 0.1 read a model that took
         // it to S + 6.8..17.8 °C (docs/autotune.md, "A steady hold").
-        if (hot_start_ && hold_gain_q4_ != 0 && !probe_again_) {
+        if (held_start() && !probe_again_) {
           probe_again_ = true;
           p.retries = 0;
           heater_on_ = false;
@@ -873,7 +873,7 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
     // steeper (never lowered: a low S errs towards overshoot), and over 1.5 × steeper is a
     // missed lag, as stage 4 finds at full power: the trend guard. K in Q8 < 2^20, × 1/T (≤ 2^14,
     // Q16) / 2^16 < 2^18 (mul_q16: exact, no 64-bit product).
-    if (hot_start_ && hold_gain_q4_ != 0) {
+    if (held_start()) {
       const int32_t s_held = fixed::mul_q16(int32_t{hold_gain_q4_} << 4, inv_t_q16_);
       if (s_held > slope_q8_) {
         if (2 * s_held > 3 * slope_q8_) ap.blunted = true;
@@ -1035,7 +1035,7 @@ int32_t Autotune::steady_from_model() const {
   // probe that read S and 1/T off a decaying baseline (two-node-80W from S − 10: ū 0.30 against
   // 0.157, S + 6.0..6.8 °C; docs/autotune.md, "A steady hold"). The rise (≤ 250 °C: < 2^16 in Q8,
   // capped there) × 2^16 < 2^32; K ≥ 1 in Q4, × 16 in Q8.
-  if (hot_start_ && hold_gain_q4_ != 0 && target_q8_ > ambient_q8_) {
+  if (held_start() && target_q8_ > ambient_q8_) {
     const uint32_t u = capped_ratio_q16(static_cast<uint32_t>(target_q8_ - ambient_q8_), 65535, uint32_t{hold_gain_q4_} << 4);
     return static_cast<int32_t>(u > kFull ? kFull : u);
   }
@@ -1180,7 +1180,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         // noise seeds only (622: C 249 or 265 s by K/S; docs/autotune.md, "d held…").
         // at·(1/T) < 2^17, s4 < 2^15: the sum < 2^18, clamped to 2^15 as the probe's S.
         // After a hold, the exact rate (stage 10: its own division, the loss learning above has one).
-        if (hot_start_ && hold_gain_q4_ != 0) return 10;
+        if (held_start()) return 10;
         return relearn_slope(fixed::clamp(s4 + fixed::mul_q16(at, inv_t_q16_), int32_t{0}, int32_t{32767}));
       }
       return 5;
@@ -1188,7 +1188,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       set_approach_gain();
       // (After a hold ū is the hold's, whatever S: stage 5 has nothing to do, and after stage 10
       // this bin has no step left for it.)
-      return hot_start_ && hold_gain_q4_ != 0 ? 6 : 5;
+      return held_start() ? 6 : 5;
     case 10: {
       // After a hold K is known, and at full power ẏ = S·(1 − rise/K) exactly, whatever 1/T the
       // probe read (none, from above the target: hotend40w 230 → 210 °C re-learnt S 465 against
@@ -1996,7 +1996,7 @@ bool Autotune::compute_chunk() {
       m.rise_q8 = v.k_q8;
       result_.ambient_q8 = ambient_q8_;
       result_.hot_start = hot_start_;
-      result_.held_gain = hot_start_ && hold_gain_q4_ != 0;
+      result_.held_gain = held_start();
       result_.unsure = untrusted_;
       result_.noise_q8 = noise_n_ >= 16 ? noise_q8_ : AutotuneResult::kNoiseUnmeasured;
       // The fit's two lags where its K agrees with the relay's within 1/8 (a record two lags do

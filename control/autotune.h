@@ -160,7 +160,6 @@ class Autotune {
   // Heater off, state kFailed/kAborted.
   void abort();
 
-
   // One control period with the thermistor reading (°C × 256).
   AutotuneOutput step(int32_t measured_q8);
 
@@ -360,6 +359,7 @@ class Autotune {
   // more, from a new baseline (the decay it drifted on hid the few-tick pulses: heavy-slow, seed000).
   bool probe_again_ = false;
   uint16_t hold_gain_q4_ = 0;  // start()'s hold_gain_q8 in °C × 16 (0: none; 2 B of RAM)
+  bool held_start() const { return hot_start_ && hold_gain_q4_ != 0; }  // a hot start after a hold
   // Reading noise, measured while nothing but noise moves the reading (baseline, cooling, the
   // probe until its response shows): Σ|second difference| over noise_n_ readings, and the σ
   // it gives (°C × 256). The probe's thresholds, the relay's hysteresis and the trend guard's

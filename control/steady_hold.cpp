@@ -1,6 +1,11 @@
 #include "control/steady_hold.h"
 
+#include "control/autotune.h"
+
 namespace control {
+
+// K counts from the ambient a hot start's tune assumes: the two must be one figure.
+static_assert(SteadyHold::kAmbientQ8 == Autotune::kDefaultAmbientQ8, "SteadyHold and Autotune count from one ambient");
 
 void SteadyHold::update(int32_t target_q8, int32_t measured_q8, uint16_t duty_q16, uint8_t fan_duty) {
   const int32_t error_q8 = measured_q8 - target_q8;

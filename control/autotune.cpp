@@ -400,8 +400,8 @@ AutotuneOutput Autotune::step(int32_t y) {
     stage_ = bin_stage(stage_);  // first: they must be done before the next bin
   } else if (cycle_stage_ != 0) {
     cycle_stage_ = cycle_stage(cycle_stage_);  // ≥ 16 steps to the next cycle's end
-  } else if (fit_.stage != 0) {
-    fit_.stage = fit_stage(fit_.stage);
+  } else if (fd_.fit.stage != 0) {
+    fd_.fit.stage = fit_stage(fd_.fit.stage);
   }
   return {duty_q16_, fan_, state_, failure_, event_};
 }
@@ -442,7 +442,7 @@ bool Autotune::long_response() const {
 // (8,000 bins; the fit is dropped past them): ∫u ≤ 2^21 (Q8 duty × bins), ∫y ≤ 2^26 (°C × 16 ×
 // bins; rise < 2^9 °C), each filter state 16 × that: < 2^31.
 __attribute__((noinline)) void Autotune::fit_bin() {
-  LagFit& f = near(fit_);
+  LagFit& f = near(fd_.fit);
   if (hot_start_ || phase_ < Phase::kProbe || phase_ > Phase::kRelay || tick_ > kFitMaxTicks) return;
   // From the probe's baseline: a cold hotend at rest a little off the ambient (given, or within
   // 15 °C) would otherwise add a ramp to ∫y that two lags do not have.
@@ -464,7 +464,7 @@ __attribute__((noinline)) void Autotune::fit_bin() {
 
 // One piece of the latched sample's products (control/lag_fit.h), on a step with no other piece.
 uint8_t Autotune::fit_stage(uint8_t stage) {
-  LagFit& f = near(fit_);
+  LagFit& f = near(fd_.fit);
   const uint8_t next = lag_fit_accumulate(store_.fit, f.x, stage);
   if (next == 0) ++f.samples;
   return next;
@@ -472,7 +472,7 @@ uint8_t Autotune::fit_stage(uint8_t stage) {
 
 // One piece of the fit's solution (control/lag_fit.h): x_q8 becomes K, τ1, τ2.
 uint8_t Autotune::fit_solve(uint8_t stage) {
-  LagFit& f = near(fit_);
+  LagFit& f = near(fd_.fit);
   return lag_fit_solve(store_.fit, static_cast<uint16_t>(kTicksPerBin * period_ms_), f.x, stage);
 }
 
@@ -481,9 +481,11 @@ uint8_t Autotune::bin_stage(uint8_t stage) {
   if (stage >= 20) return begin_stage(stage);
   switch (phase_) {
     case Phase::kBaseline:
+      if (stage == 1) note_decay();
       return baseline_stage(stage);
     case Phase::kCool:
       duty_q16_ = 0;
+      note_decay();
       if (y_bin_q8_ < target_q8_ - kHeadroomQ8 - kQ8 && (!hot_start_ || y_bin_q8_ < cool_ref_q8_ - kCoolDropQ8)) {
         cooled_ = true;
         enter(Phase::kBaseline);
@@ -501,6 +503,15 @@ uint8_t Autotune::bin_stage(uint8_t stage) {
     default:
       return 0;
   }
+}
+
+// The first point of a held start's first cool-down (Autotune::HeldDecay): the bin after the
+// first one 1 °C below where it began (the switch-off has reached the reading all through it).
+void Autotune::note_decay() {
+  HeldDecay& d = fd_.decay;
+  if (!held_start() || probe_again_ || d.tick_a != 0 || y_prev_q8_ >= cool_ref_q8_ - kQ8) return;
+  d.rise_a_q8 = y_bin_q8_ - ambient_q8_;
+  d.tick_a = tick_;
 }
 
 uint8_t Autotune::baseline_stage(uint8_t stage) {
@@ -530,6 +541,14 @@ uint8_t Autotune::baseline_stage(uint8_t stage) {
     if (hot_start_ && slope < 0 && rise > 10 * kQ8) {
       probe_.base_rate_q16 = clamp_duty(static_cast<int32_t>(
           capped_ratio_q16(static_cast<uint32_t>(-slope), 32767, static_cast<uint32_t>(rise))));
+      // A held start's first cool-down ends here (HeldDecay): its last point, and the span from
+      // the first in whole bins (the stages run a step or two after their bin ended: rounded).
+      // At most a few hundred bins: the cool-down is bounded by the timeout.
+      HeldDecay& d = fd_.decay;
+      if (held_start() && !probe_again_ && d.tick_a != 0) {
+        d.rise_b_q8 = rise;
+        d.bins = static_cast<uint16_t>((tick_ - d.tick_a + kTicksPerBin / 2) / kTicksPerBin);
+      }
     }
     probe_.base_rise_q8 = rise;
     return 3;
@@ -1584,10 +1603,7 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
       duty_q16_ = bias_q16_;
       enter(Phase::kFan);
     } else {
-      fan_ = 0;
-      duty_q16_ = 0;
-      compute_step_ = 0;
-      enter(Phase::kCompute);
+      enter_compute();
     }
   }
   return 0;
@@ -1619,7 +1635,7 @@ void Autotune::fan_stage() {
   if (rising && bins_ <= wait) {
     pending_q8_ = 0;
     fan_span_ = 0;
-    end_fan_step();
+    enter_compute();
     return;
   }
   if (bins_ == wait) pending_q8_ = y_bin_q8_;
@@ -1631,14 +1647,87 @@ void Autotune::fan_stage() {
   if (!rising && bins_ < wait + fan_span_bins() && (fall < kFanFallQ8 || bins_ < wait + 4)) return;
   fan_span_ = static_cast<uint16_t>(bins_ - wait);
   pending_q8_ = -fall;  // Δ over the span (compute)
-  end_fan_step();
+  enter_compute();
 }
 
-void Autotune::end_fan_step() {
+void Autotune::enter_compute() {
   fan_ = 0;
   duty_q16_ = 0;
-  compute_step_ = 0;
+  compute_step_ = held_start() ? 0 : kHeldDecaySteps;  // (elsewhere the decay's figures stay 0 from start())
   enter(Phase::kCompute);
+}
+
+// The full-power slope S = K/T (per bin, °C × 256) the fan step's fall is read against; relay_t
+// the relay's mean T (s × 256; 0: none). After a hold, where the first cool-down's T is at least
+// ¾ of the relay's (a dead-time hotend: 0.77–0.94 × on the bank; a thermistor lag slows the first
+// decay, and the relay reads a lag as a long T: 0.39–0.70 ×), K·(1/T): the S the approach
+// learnt at full power soon after a switch-on read 24–31 % steep there (seed002, seed004,
+// fopdt-120-25), and F 15–18 % low with it. K < 2^19 and relay T < 2^23: each mul_q16 fits.
+__attribute__((noinline)) int32_t Autotune::fan_slope_q8(int32_t k_q8, int32_t relay_t_q8) const {
+  const uint16_t rate_q16 = static_cast<uint16_t>(store_.c.decay_q24 >> 8);
+  if (rate_q16 == 0 || relay_t_q8 <= 0 || 3 * fixed::mul_q16(relay_t_q8, rate_q16) > 4 * seconds_q8(kTicksPerBin)) {
+    return slope_q8_;
+  }
+  return fixed::mul_q16(k_q8, rate_q16);
+}
+
+// The compute's first steps (held starts only): the first cool-down (HeldDecay) as 1/T per bin
+// (Q24) and T (s × 256), both 0 where there is none. From a steady hold the heater's switch-off is
+// a clean step, and past the dead time an FOPDT decays as e^(−t/T): ln(rise_a/rise_b) over the
+// span in bins is its 1/T. The whole span (3–10 bins on the bank) matters: the baseline's 2-bin
+// slope read fopdt-120-25's T 1.6–3.7 % long at σ 0.1 °C, and its model-following heat-up
+// overshoots ~1.4 °C per 1 %. One logarithm or division per step: ln < 2^20 (rise_a < 2^17),
+// × 2^8 < 2^28; s per bin (q8) < 2^9, × 2^8 × 2^16 (div_q16 normalises) ÷ 1/T.
+void Autotune::held_decay_step(uint8_t s) {
+  Compute& v = near(store_.c);
+  const HeldDecay& d = fd_.decay;
+  if (s == 0) {
+    v.t_decay_q8 = 0;  // here: the span's ln, Q16
+    v.decay_q24 = 0;
+    if (d.bins >= 2 && d.rise_b_q8 > 0 && d.rise_a_q8 > d.rise_b_q8) {
+      v.t_decay_q8 = fixed_math::ln_ratio_q16(static_cast<uint32_t>(d.rise_a_q8), static_cast<uint32_t>(d.rise_b_q8));
+    }
+  } else if (s == 1) {
+    if (v.t_decay_q8 > 0) v.decay_q24 = static_cast<int32_t>((static_cast<uint32_t>(v.t_decay_q8) << 8) / d.bins);
+  } else {
+    v.t_decay_q8 = v.decay_q24 > 0 ? static_cast<int32_t>(div_q16(static_cast<uint32_t>(seconds_q8(kTicksPerBin)) << 8,
+                                                                   static_cast<uint32_t>(v.decay_q24)))
+                                   : 0;
+  }
+}
+
+// Compute steps 10–13 of a held hot start whose relay saw a lag (compute_chunk). A first-order
+// sensor lag τ behind the block K/(1 + sT) has |G(jω)| = K/(ωT·√(1 + ω²τ²)) = 1/Ku at the relay's
+// ω = 2π/Tu (ωT ≫ 1): with X = (K/T)·Ku·Tu/(2π·255) (Ku on Marlin's 0..255 scale),
+// τ = √(X² − 1)·Tu/(2π). τ replaces D (and is the design's thermistor lag) where it is longer and
+// under T/2 (a longer one is no first-order lag behind this block). One division per step, all
+// 32-bit: K/T in Q11 (K·256 < 2^20, << 11 < 2^31); Ku·Tu/1602.2 in Q16 (each Q8 < 2^16: the
+// product fits); X in Q12 where their product fits and X < 16 (else no lag is taken: τ > 2.4 Tu).
+__attribute__((noinline)) void Autotune::held_lag_stage(uint8_t s) {
+  Compute& v = near(store_.c);
+  HotendModel& m = near(result_.model);
+  const AutotuneUltimate& u = result_.ultimate;
+  if (u.ku_q8 <= 0 || u.ku_q8 >= 65536 || u.tu_q8 <= 0 || u.tu_q8 >= 65536 || m.time_constant_q8 < 256) return;
+  if (s == 10) {
+    v.ln = static_cast<int32_t>((static_cast<uint32_t>(v.k_q8) << 11) / static_cast<uint32_t>(m.time_constant_q8));
+  } else if (s == 11) {
+    v.lambda = static_cast<int32_t>(static_cast<uint32_t>(u.ku_q8) * static_cast<uint32_t>(u.tu_q8) / 1602u);  // 255·2π
+  } else if (s == 12) {
+    const uint32_t r = static_cast<uint32_t>(v.ln), g = static_cast<uint32_t>(v.lambda);
+    v.ln = 0;  // √(X² − 1), Q12 (0: none)
+    // A product of over 32 bits (bit lengths summing past 32) is an X of 16 or more: none.
+    if (r == 0 || g == 0 || __builtin_clzl(r) + __builtin_clzl(g) < 32) return;
+    const uint32_t x_q12 = (r * g + (uint32_t{1} << 14)) >> 15;  // Q11 × Q16 → Q12
+    // X² − 1 in Q24 (< 2^32), its root Q12 < 2^16.
+    if (x_q12 > 4096 && x_q12 < 65536) v.ln = fixed_math::isqrt_u32(x_q12 * x_q12 - (uint32_t{1} << 24));
+  } else {
+    // τ = root × Tu ÷ 2π (root Q12 < 2^16 × tu_q8 < 2^16: < 2^32; ÷ 2π·4096).
+    const int32_t tau_q8 = static_cast<int32_t>((static_cast<uint32_t>(v.ln) * static_cast<uint32_t>(u.tu_q8) + 12868u) / 25736u);
+    if (tau_q8 > m.dead_time_q8 && 2 * tau_q8 < m.time_constant_q8) {
+      m.dead_time_q8 = tau_q8;
+      result_.sensor_lag_q8 = tau_q8;
+    }
+  }
 }
 
 // Σ = (K·p − q)/r from the hand-over's lag fit (lag_fit_stage), bins × 64; 0 when there is none
@@ -1665,7 +1754,7 @@ bool Autotune::compute_chunk() {
   // First the fit (a long-response cold tune with enough samples): its last sample, its
   // solution, then the storage it shares with the compute is cleared. Any other tune goes on to
   // the compute in the same step (its timing as without the fit).
-  LagFit& f = near(fit_);
+  LagFit& f = near(fd_.fit);
   if (f.stage != 0) {
     f.stage = fit_stage(f.stage);
     return false;
@@ -1686,6 +1775,11 @@ bool Autotune::compute_chunk() {
   const uint8_t stored = stored_count_ < kMaxStoredCycles ? stored_count_ : kMaxStoredCycles;
   constexpr uint8_t k0 = 6;  // compute steps of the no-fan gain
   uint8_t s = compute_step_++;
+  if (s < kHeldDecaySteps) {
+    held_decay_step(s);
+    return false;
+  }
+  s = static_cast<uint8_t>(s - kHeldDecaySteps);
   if (s < k0 || (s >= k0 + kCycleSteps * stored && s < k0 + kFanSteps + kCycleSteps * stored)) {  // fan: subs 0–5
     // Gain = mean rise / mean duty over the measured cycles [0] or the fan step [1].
     const uint8_t part = s < k0 ? 0 : 1;
@@ -1701,6 +1795,8 @@ bool Autotune::compute_chunk() {
       v.a_hi = first_ticks_ > 0 ? first_dev_ / first_ticks_ : 0;
     } else if (sub == 0) {
       v.sigma_q6 = lag_sigma_q6(v.k_q8);
+      // The relay's T for fan_slope_q8 (a held start's: its lag fit, if any, took this step's division).
+      v.lambda = v.sigma_q6 == 0 && held_start() && v.tl_count > 0 ? v.t_sum_q8 / v.tl_count : 0;
     } else if (sub == 1 && part == 1) {
       // A lag-type hotend's S is its sensor's steepest heat-up slope, where the fall's ẏ/S wants
       // the duty that drives the two lags' Σ·ẏ: the factor Σ·S/K, Q16 (Σ·S < 2^29 >> 6; div_q16
@@ -1724,7 +1820,7 @@ bool Autotune::compute_chunk() {
       // < 2^32; span < 2^10 bins × S < 2^15 < 2^25; capped at 2^17 (F0: span 0, no division).
       const int32_t d = part == 0 ? v.a_lo : pending_q8_;
       const uint32_t den = part == 0 ? static_cast<uint32_t>(v.a_hi) * inv_t_nofan_q16_
-                                     : uint32_t{fan_span_} * static_cast<uint32_t>(slope_q8_);
+                                     : uint32_t{fan_span_} * static_cast<uint32_t>(fan_slope_q8(v.k_q8, v.lambda));
       const uint32_t c = static_cast<int32_t>(den) > 0 ? capped_ratio_q16(static_cast<uint32_t>(abs32(d)), part == 0 ? 8192 : 65535, den) : 0;
       v.a_hi = part == 0 ? static_cast<int32_t>(c > 8192 ? 8192 : c)
                          : fixed::mul_q16(static_cast<int32_t>(c > 131072 ? 131072 : c), static_cast<uint16_t>(v.a_lo));
@@ -1949,9 +2045,20 @@ bool Autotune::compute_chunk() {
         // bound in simavr). On FOPDT hotends the two agree within 1.3 × and the relay's is kept.
         // seconds per bin (q8) < 2^9, × 2^16 < 2^25; ÷ 1/T (Q16, ≥ 1).
         const uint32_t t_loss = div_q16(static_cast<uint32_t>(seconds_q8(kTicksPerBin)), inv_t_nofan_q16_);
-        // (t_loss < 2^25: × 3 fits.)
-        if (no_relay_t || 2 * static_cast<uint32_t>(m.time_constant_q8) > 3 * t_loss) {
-          m.time_constant_q8 = static_cast<int32_t>(t_loss);
+        // After a hold, the first cool-down's T (held_decay_step) where the relay's T is within 4/3 of it:
+        // a heater switched off from a steady state is a clean step, and an FOPDT's decay then
+        // gives T (within 1–4 % on the bank; the relay's reads 7–30 % long on a dead time, the
+        // loss 16–35 % short). A thermistor lag slows the first decay and the relay reads it as a
+        // long T (1.43–2.5 × the decay's): there the loss below, but never above the decay's T,
+        // which bounds the block's (the sensor's decay only lags it; seed003 from S − 30 read the
+        // loss at 113 s, the decay 74 s). (t_loss < 2^25: × 3 fits; T's < 2^25: × 4 fits.)
+        const uint32_t t_decay = static_cast<uint32_t>(v.t_decay_q8);
+        if (t_decay > 0 && !no_relay_t && 3 * static_cast<uint32_t>(m.time_constant_q8) <= 4 * t_decay) {
+          m.time_constant_q8 = v.t_decay_q8;
+        } else if (no_relay_t || 2 * static_cast<uint32_t>(m.time_constant_q8) > 3 * t_loss) {
+          m.time_constant_q8 = static_cast<int32_t>(t_decay > 0 && t_decay < t_loss ? t_decay : t_loss);
+        } else if (t_decay > 0) {
+          m.time_constant_q8 = v.t_decay_q8;
         }
       } else if (slope_q8_ > 0 && !hot_start_) {
         // A cut probe (hot start, or a slower response): S = K/T at full power. The relay's FOPDT
@@ -1991,8 +2098,21 @@ bool Autotune::compute_chunk() {
     case 8:
       result_.ultimate.ku_q8 = ku_count_ > 0 ? static_cast<int32_t>(ku_sum_q8_ / ku_count_) : 0;
       return false;
-    default:
+    case 10:
+    case 11:
+    case 12:
+    case 13:
+      held_lag_stage(s);
+      return false;
+    case 9:
       result_.ultimate.tu_q8 = ku_count_ > 0 ? static_cast<int32_t>(tu_sum_q8_ / ku_count_) : 0;
+      // After a hold, where the relay read a lag as a long T (case 6 took the loss's T), the
+      // relay's D is the phase's leftover and reads short (hotend80w: 1.9 s for a 4.6 s lag). With
+      // K and T known, the relay's amplitude gives the lag (held_lag_stage, steps 10–13). Every
+      // other tune ends here, in as many steps as before.
+      if (held_start() && 2 * v.a_hi > 3 * m.time_constant_q8) return false;
+      // fall through
+    default:
       m.rise_q8 = v.k_q8;
       result_.ambient_q8 = ambient_q8_;
       result_.hot_start = hot_start_;

@@ -48,7 +48,10 @@
 //             a fit of K·t − ∫y = Σ·y + Π·ẏ at two heat-up points (else the heat-up slope), L from the relay amplitude;
 //             a cold cut probe: T = p/ln(K/(K − peak)) from its pulse where it agrees within 20 %);
 //             F = K·ū_F/rise − 1 from the fan step; K corrected for the relay's drift
-//             (K·ū = rise + T·ẏ); one small piece per step (≈ 122 steps)
+//             (K·ū = rise + T·ẏ). After a hold: T from the first cool-down's decay where the
+//             relay's T is within 4/3 of it (then also S = K/T for F), else the loss's T (never
+//             above the decay's), and there the sensor lag τ from the relay's amplitude,
+//             K/(ωT·√(1 + ω²τ²)) = 1/Ku, as D where longer; one small piece per step (≈ 122 steps)
 // The slow logic runs in pieces of at most one 32-bit division each, one piece per step, so that
 // every step() stays cheap on AVR (see the cost notes at the top of autotune.cpp).
 #pragma once
@@ -206,7 +209,7 @@ class Autotune {
   uint8_t relearn_slope(int32_t s_full);
   uint8_t relay_stage(uint8_t stage);
   void fan_stage();
-  void end_fan_step();
+  void enter_compute();
   uint16_t fan_wait_bins() const;
   uint16_t fan_span_bins() const;
   void model_bin();
@@ -360,6 +363,11 @@ class Autotune {
   bool probe_again_ = false;
   uint16_t hold_gain_q4_ = 0;  // start()'s hold_gain_q8 in °C × 16 (0: none; 2 B of RAM)
   bool held_start() const { return hot_start_ && hold_gain_q4_ != 0; }  // a hot start after a hold
+  int32_t fan_slope_q8(int32_t k_q8, int32_t relay_t_q8) const;
+  void held_lag_stage(uint8_t s);
+  void note_decay();
+  void held_decay_step(uint8_t s);
+  static constexpr uint8_t kHeldDecaySteps = 3;  // the compute's first steps (held_decay_step)
   // Reading noise, measured while nothing but noise moves the reading (baseline, cooling, the
   // probe until its response shows): Σ|second difference| over noise_n_ readings, and the σ
   // it gives (°C × 256). The probe's thresholds, the relay's hysteresis and the trend guard's
@@ -456,6 +464,9 @@ class Autotune {
     int32_t t_sum_q8, l_sum_q8;
     int32_t sigma_q6;  // τ1 + τ2 from the heat-up's lag fit, bins × 64 (0: none)
     uint8_t tl_count;
+    // A held start's first cool-down (held_decay_step): 1/T per bin, Q24, and T, s × 256 (0: none).
+    // (Within the fit's share of the union: no RAM of their own.)
+    int32_t decay_q24, t_decay_q8;
   };
   // Two-lag fit (control/lag_fit.h) where the probe's response outlasts the model history
   // (long_response(): seed000's higher-order hotends), cold starts only: samples from the
@@ -472,7 +483,21 @@ class Autotune {
     uint8_t stage;     // next piece of the latched sample (fit_stage), 0: none pending
     uint8_t solve;     // last piece of fit_solve done, 0: not started, 0xFF: done (or skipped)
   };
-  LagFit fit_ = {};
+  // A held hot start's first cool-down (the heater off after a steady hold: a clean step). Its
+  // decay's first point is the bin after the first one 1 °C below where the cool-down began;
+  // its last is the baseline's (stage 2).
+  struct HeldDecay {
+    int32_t rise_a_q8;   // the first point's rise above ambient
+    uint32_t tick_a;     // ... and its tick (0: none yet)
+    int32_t rise_b_q8;   // the baseline's rise
+    uint16_t bins;       // bins from the first point to the baseline's (0: none)
+  };
+  union FitOrDecay {  // a cold start's fit, or a held hot start's decay (a hot start never fits)
+    constexpr FitOrDecay() : fit{} {}
+    LagFit fit;
+    HeldDecay decay;
+  };
+  FitOrDecay fd_;
   union ComputeStore {
     constexpr ComputeStore() : c{} {}
     Compute c;

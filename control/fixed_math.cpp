@@ -36,6 +36,22 @@ Scaled make(bool negative, uint32_t mag, int32_t e) {
 
 }  // namespace
 
+uint16_t isqrt_u32(uint32_t x) {
+  uint32_t root = 0;
+  uint32_t bit = uint32_t{1} << 30;
+  while (bit > x) bit >>= 2;
+  while (bit != 0) {
+    if (x >= root + bit) {
+      x -= root + bit;
+      root = (root >> 1) + bit;
+    } else {
+      root >>= 1;
+    }
+    bit >>= 2;
+  }
+  return static_cast<uint16_t>(root);
+}
+
 Scaled scaled(int32_t v, int16_t e) { return make(v < 0, magnitude(v), e); }
 
 // The operations are not inlined into each other (exp_neg, ln): set-up code, where flash counts.

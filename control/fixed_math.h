@@ -57,6 +57,9 @@ inline int32_t ln_from_log2_q16(int32_t d) {
   return neg ? -static_cast<int32_t>(r) : static_cast<int32_t>(r);
 }
 
+// ⌊√x⌋ (bit by bit: 16 rounds of a compare and shifts, no multiply).
+uint16_t isqrt_u32(uint32_t x);
+
 // ln(num / den) · 2^16 for num, den ≥ 1: (log2 num − log2 den) · ln 2.
 inline int32_t ln_ratio_q16(uint32_t num, uint32_t den) { return ln_from_log2_q16(log2_q16(num) - log2_q16(den)); }
 

@@ -86,14 +86,25 @@ inline const Plant* find(const std::vector<Plant>& ps, const std::string& name) 
   return nullptr;
 }
 
-// M303 E0 S<target> C5 U1 F1 from ambient on the plant; false if it did not finish.
-inline bool tune(const Plant& p, unsigned long long noise_seed, double noise_c, control::AutotuneResult* out) {
+// M303 E0 S<target> C5 U1 F1 on the plant, from ambient or (held_c > 0) a hot start held at
+// held_c long enough for the firmware's steady hold to have passed its static gain, which the
+// rig takes exact (as host_tests/test_autotune.cpp); false if it did not finish.
+inline bool tune(const Plant& p, unsigned long long noise_seed, double noise_c, control::AutotuneResult* out,
+                 double held_c = 0) {
   design::PlantSim sim(p.model);
   sim.set_noise(noise_c);
   sim.set_noise_seed(noise_seed);
+  int32_t hold_gain_q8 = 0;
+  if (held_c > 0) {
+    const double duty = (held_c - p.model.ambient_c) / design::dc_gain(p.model);
+    for (int i = 0; i < 40000; ++i) sim.run(duty, kPeriodS);
+    hold_gain_q8 = static_cast<int32_t>(std::lround((held_c - 25.0) / duty * 256));
+  }
   control::Autotune at;
   at.configure(firmware::kControlPeriodMs, 1800);
-  if (!at.start(static_cast<int32_t>(std::lround(p.target_c * 256)), 5, true)) return false;
+  if (!at.start(static_cast<int32_t>(std::lround(p.target_c * 256)), 5, true, control::Autotune::kMeasureAmbient,
+                hold_gain_q8))
+    return false;
   for (int i = 0; i < 200000; ++i) {
     const control::AutotuneOutput o = at.step(static_cast<int32_t>(std::lround(sim.measured_c() * 256)));
     if (o.state != control::AutotuneState::kRunning) {
@@ -157,10 +168,10 @@ inline Figures run(const Plant& p, const Applied& a, std::vector<double>* trace 
 
 // Tune, design and apply as the firmware does, then run: the figures after U1.
 inline Figures after_u1(const Plant& p, unsigned long long seed, double noise_c = 0.1,
-                        control::AutotuneResult* result = nullptr, bool* chose_sf = nullptr) {
+                        control::AutotuneResult* result = nullptr, bool* chose_sf = nullptr, double held_c = 0) {
   control::AutotuneResult r{};
   Figures f;
-  if (!tune(p, seed, noise_c, &r)) return f;
+  if (!tune(p, seed, noise_c, &r, held_c)) return f;
   if (result) *result = r;
   control::TunedDesign d;
   if (!control::design_from_tune(r, firmware::kControlPeriodMs, &d)) return f;

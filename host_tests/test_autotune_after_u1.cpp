@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -47,6 +48,141 @@ TEST(AutotuneAfterU1, EveryPlantMeetsTheTargetsOrItsKnownMiss) {
     EXPECT_LE(f.steady_pp_c, 0.5) << p.name;
     EXPECT_LE(f.dip_c, 1.0) << p.name;
   }
+}
+
+// After a held hot start (M303 at S after printing at S − 10 long enough for the steady hold):
+// the same heat-up from ambient and fan step with what U1 applied. AUTOTUNE_HELD_FROM=<°C from
+// the target> starts elsewhere (−10; "cold": from ambient, for comparison), AUTOTUNE_HELD_SEED=n
+// takes another noise realisation.
+TEST(AutotuneAfterU1, HeldHotStartTable) {
+  const char* from_env = std::getenv("AUTOTUNE_HELD_FROM");
+  const bool cold = from_env != nullptr && std::string(from_env) == "cold";
+  const double from = from_env != nullptr ? std::atof(from_env) : -10.0;
+  const char* seed_env = std::getenv("AUTOTUNE_HELD_SEED");  // another noise realisation (12345)
+  const unsigned long long seed = seed_env != nullptr ? std::strtoull(seed_env, nullptr, 10) : 12345;
+  std::printf("%-17s %-7s %8s %8s %7s %6s | %7s %7s %6s %6s %6s %6s\n", "plant", "U1", "os °C", "set ×", "p-p °C", "dip °C",
+              "A", "C s", "D s", "Ku", "Tu s", "F %");
+  for (const after_u1::Plant& p : after_u1::plants()) {
+    control::AutotuneResult r{};
+    bool sf = false;
+    const Figures f = after_u1::after_u1(p, seed, 0.1, &r, &sf, cold ? 0.0 : p.target_c + from);
+    std::printf("%-17s %-7s %8.2f %8.2f %7.3f %6.2f | %7.1f %7.1f %6.2f %6.2f %6.2f %6.2f%s\n", p.name.c_str(),
+                sf ? "statefb" : "pid+ff", f.overshoot_c, f.settling_ratio, f.steady_pp_c, f.dip_c,
+                r.model.rise_q8 / 256.0, r.model.time_constant_q8 / 256.0, r.model.dead_time_q8 / 256.0,
+                r.ultimate.ku_q8 / 256.0, r.ultimate.tu_q8 / 256.0, r.model.fan_loss_pct_q8 / 256.0, f.ok ? "" : " FAIL");
+  }
+}
+
+// After a hold (SteadyHold's K) at S − 60, S − 30, S − 10 and S + 20 °C, what U1 applies meets
+// issue 7's targets on every plant whose tune finishes, or its known miss (kHeldMisses). Before
+// the hold's decay and lag (docs/autotune.md, "After a hold: the cool-down's T and the relay's
+// lag"), over these starts at 3 noise seeds: seed002 overshot 7–14 °C, seed004 7–13, seed003
+// 10–14, hotend80w 4–5, heavy-slow 2–4 (2.6 × bound). Tunes that end without a result are the
+// tune tables' business (host_tests/test_autotune.cpp); here they are counted and bounded.
+// AUTOTUNE_HELD_SWEEP="−60,−45,…" (°C from the target), AUTOTUNE_HELD_SEEDS=n (12345, 1, 2, …) and
+// AUTOTUNE_HELD_NOISE=σ widen it into the diagnostic sweep (its limits still asserted).
+const std::map<std::string, Limits> kHeldMisses = {
+    // A 5 s transport delay before the lag: every T the hot start reads is long (decay 270–297 s,
+    // loss ~300, relay 375 for 245.6), so the heat-up is slow: 1.26–1.49 × bound over 9 starts ×
+    // 3 seeds (1.68–1.70 × before); from S and S + 20, 1.1–1.8 °C over with C read right.
+    {"hotend40w-delay5", {1.3, 1.55}},
+    // From S − 30 the approach's loss read T 113 s and its S half the others' (an approach
+    // issue, not the decay's): F 98 % and C 83 s; 4.6–5.5 °C over (the same before).
+    {"seed003", {5.6, 1.2}},
+};
+
+TEST(AutotuneAfterU1, AfterAHoldEveryPlantMeetsTheTargetsOrItsKnownMiss) {
+  const char* sweep_env = std::getenv("AUTOTUNE_HELD_SWEEP");
+  std::vector<double> froms;
+  {
+    std::istringstream fs(sweep_env ? sweep_env : "-60,-30,-10,20");
+    std::string tok;
+    while (std::getline(fs, tok, ',')) froms.push_back(std::atof(tok.c_str()));
+  }
+  const char* seeds_env = std::getenv("AUTOTUNE_HELD_SEEDS");
+  const int n_seeds = seeds_env ? std::atoi(seeds_env) : 1;
+  const char* noise_env = std::getenv("AUTOTUNE_HELD_NOISE");
+  const double noise = noise_env ? std::atof(noise_env) : 0.1;
+  std::printf("%-17s %5s %5s | %8s %8s %7s %6s | %s\n", "plant", "runs", "unfin", "os °C", "set ×", "p-p °C", "dip °C",
+              "largest overshoot (from, seed)");
+  int unfinished_all = 0;
+  for (const after_u1::Plant& p : after_u1::plants()) {
+    const auto miss = kHeldMisses.find(p.name);
+    const Limits lim = miss == kHeldMisses.end() ? Limits{1.0, 1.2} : miss->second;
+    int runs = 0, unfinished = 0;
+    Figures worst;
+    double worst_from = 0;
+    unsigned long long worst_seed = 0;
+    for (double from : froms) {
+      for (int si = 0; si < n_seeds; ++si) {
+        const unsigned long long seed = si == 0 ? 12345ULL : static_cast<unsigned long long>(si);
+        control::AutotuneResult r{};
+        bool sf = false;
+        const Figures f = after_u1::after_u1(p, seed, noise, &r, &sf, p.target_c + from);
+        if (r.model.rise_q8 == 0) {  // the tune ended without a result
+          ++unfinished;
+          continue;
+        }
+        ++runs;
+        const bool met = f.ok && f.overshoot_c <= lim.overshoot_c && f.settling_ratio <= lim.settling_ratio &&
+                         f.steady_pp_c <= 0.5 && f.dip_c <= 1.0;
+        if (!met || f.overshoot_c > 1.0 || f.settling_ratio > 1.2) {
+          std::printf("   %s %s from %+.0f seed %llu: os %.2f set %.2f p-p %.3f dip %.2f%s (C %.1f D %.2f F %.1f)\n",
+                      met ? "known miss" : "MISS", p.name.c_str(), from, seed, f.overshoot_c, f.settling_ratio,
+                      f.steady_pp_c, f.dip_c, f.ok ? "" : " not back in ±1 °C", r.model.time_constant_q8 / 256.0,
+                      r.model.dead_time_q8 / 256.0, r.model.fan_loss_pct_q8 / 256.0);
+        }
+        EXPECT_TRUE(met) << p.name << " from " << from << " seed " << seed;
+        if (f.overshoot_c > worst.overshoot_c) worst_from = from, worst_seed = seed;
+        worst.overshoot_c = std::max(worst.overshoot_c, f.overshoot_c);
+        worst.settling_ratio = std::max(worst.settling_ratio, f.settling_ratio);
+        worst.steady_pp_c = std::max(worst.steady_pp_c, f.steady_pp_c);
+        worst.dip_c = std::max(worst.dip_c, f.dip_c);
+      }
+    }
+    unfinished_all += unfinished;
+    std::printf("%-17s %5d %5d | %8.2f %8.2f %7.3f %6.2f | (%+.0f, %llu)\n", p.name.c_str(), runs, unfinished,
+                worst.overshoot_c, worst.settling_ratio, worst.steady_pp_c, worst.dip_c, worst_from, worst_seed);
+  }
+  // The known relay failure from above the target (fopdt-120-25 from S + 20: docs/autotune.md,
+  // "Not done"), no more.
+  if (sweep_env == nullptr && seeds_env == nullptr && noise_env == nullptr) {
+    EXPECT_LE(unfinished_all, 1);
+  }
+}
+
+// The lag a held start reads from the relay's amplitude (Autotune::held_lag_stage, 32-bit
+// integers) against the same formula in double precision on the tune's own figures:
+// X = (K/T)·Ku·Tu/(2π·255), τ = √(X² − 1)·Tu/(2π). And beside the plant's thermistor lag.
+TEST(AutotuneAfterU1, HeldStartLagFromTheRelayAmplitudeMatchesDoublePrecision) {
+  const std::vector<after_u1::Plant> ps = after_u1::plants();
+  const std::map<std::string, double> true_lag_s = {{"hotend40w", 1 / 0.22}, {"hotend30w", 1 / 0.22},
+                                                    {"hotend80w", 1 / 0.22}, {"light-fast", 1.0},
+                                                    {"heavy-slow", 25.0}};
+  int checked = 0;
+  double worst = 0;
+  for (const auto& lag : true_lag_s) {
+    const after_u1::Plant* p = after_u1::find(ps, lag.first);
+    ASSERT_NE(p, nullptr);
+    for (double from : {-60.0, -10.0, 20.0}) {
+      control::AutotuneResult r{};
+      if (!after_u1::tune(*p, 12345, 0.1, &r, p->target_c + from) || r.sensor_lag_q8 == 0) continue;
+      ASSERT_TRUE(r.held_gain);
+      const double k = r.model.rise_q8 / 256.0, t = r.model.time_constant_q8 / 256.0;
+      const double ku = r.ultimate.ku_q8 / 256.0, tu = r.ultimate.tu_q8 / 256.0;
+      const double x = (k / t) * ku * tu / (2 * M_PI * 255);
+      const double tau = std::sqrt(x * x - 1) * tu / (2 * M_PI);
+      const double got = r.sensor_lag_q8 / 256.0;
+      std::printf("%-11s from %+3.0f: K %.1f T %.1f Ku %.2f Tu %.2f -> tau %.3f s (double %.3f; plant's lag %.2f s)\n",
+                  lag.first.c_str(), from, k, t, ku, tu, got, tau, lag.second);
+      worst = std::max(worst, std::fabs(got - tau) / tau);
+      EXPECT_NEAR(got, tau, 0.005 * tau + 2.0 / 256) << lag.first << " from " << from;
+      EXPECT_EQ(r.model.dead_time_q8, r.sensor_lag_q8) << lag.first;  // τ is M307's D where taken
+      ++checked;
+    }
+  }
+  std::printf("worst relative difference %.2e over %d tunes\n", worst, checked);
+  EXPECT_GE(checked, 12);  // the lag path ran (14 of these 15 tunes take it; light-fast from S + 20 does not)
 }
 
 // hotend40w-delay5 (a 5 s transport delay before a lagging thermistor): the relay's FOPDT reads

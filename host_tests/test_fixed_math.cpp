@@ -32,4 +32,22 @@ TEST(FixedMath, LnRatioWorstError) {
   EXPECT_LT(worst * 65536, 6.0);
 }
 
+// ⌊√x⌋ exact: every perfect square and its neighbours up to 2^32 − 1, and a geometric sweep.
+TEST(FixedMath, IsqrtIsTheFloorOfTheSquareRoot) {
+  for (uint64_t r = 0; r <= 65535; ++r) {
+    const uint64_t sq = r * r;
+    ASSERT_EQ(fixed_math::isqrt_u32(static_cast<uint32_t>(sq)), r);
+    if (sq > 0) {
+      ASSERT_EQ(fixed_math::isqrt_u32(static_cast<uint32_t>(sq - 1)), r - 1);
+    }
+    const uint64_t next = (r + 1) * (r + 1) - 1;  // the largest x with ⌊√x⌋ = r
+    ASSERT_EQ(fixed_math::isqrt_u32(static_cast<uint32_t>(next > 0xFFFFFFFFull ? 0xFFFFFFFFull : next)), r);
+  }
+  for (uint64_t x = 1; x <= 0xFFFFFFFFull; x += x / 1013 + 1) {
+    const uint64_t r = fixed_math::isqrt_u32(static_cast<uint32_t>(x));
+    ASSERT_LE(r * r, x);
+    ASSERT_GT((r + 1) * (r + 1), x);
+  }
+}
+
 }  // namespace

@@ -505,11 +505,11 @@ uint8_t Autotune::bin_stage(uint8_t stage) {
   }
 }
 
-// The first point of a held start's first cool-down (Autotune::HeldDecay): the bin after the
+// The first point of a hot start's first cool-down (Autotune::CoolDecay): the bin after the
 // first one 1 °C below where it began (the switch-off has reached the reading all through it).
 void Autotune::note_decay() {
-  HeldDecay& d = fd_.decay;
-  if (!held_start() || probe_again_ || d.tick_a != 0 || y_prev_q8_ >= cool_ref_q8_ - kQ8) return;
+  CoolDecay& d = fd_.decay;
+  if (!hot_start_ || probe_again_ || d.tick_a != 0 || y_prev_q8_ >= cool_ref_q8_ - kQ8) return;
   d.rise_a_q8 = y_bin_q8_ - ambient_q8_;
   d.tick_a = tick_;
 }
@@ -541,11 +541,11 @@ uint8_t Autotune::baseline_stage(uint8_t stage) {
     if (hot_start_ && slope < 0 && rise > 10 * kQ8) {
       probe_.base_rate_q16 = clamp_duty(static_cast<int32_t>(
           capped_ratio_q16(static_cast<uint32_t>(-slope), 32767, static_cast<uint32_t>(rise))));
-      // A held start's first cool-down ends here (HeldDecay): its last point, and the span from
+      // A hot start's first cool-down ends here (CoolDecay): its last point, and the span from
       // the first in whole bins (the stages run a step or two after their bin ended: rounded).
       // At most a few hundred bins: the cool-down is bounded by the timeout.
-      HeldDecay& d = fd_.decay;
-      if (held_start() && !probe_again_ && d.tick_a != 0) {
+      CoolDecay& d = fd_.decay;
+      if (!probe_again_ && d.tick_a != 0) {
         d.rise_b_q8 = rise;
         d.bins = static_cast<uint16_t>((tick_ - d.tick_a + kTicksPerBin / 2) / kTicksPerBin);
       }
@@ -1653,16 +1653,19 @@ void Autotune::fan_stage() {
 void Autotune::enter_compute() {
   fan_ = 0;
   duty_q16_ = 0;
-  compute_step_ = held_start() ? 0 : kHeldDecaySteps;  // (elsewhere the decay's figures stay 0 from start())
+  // A hot start's decay (decay_step) first; not where the response outlasted the model history
+  // (seed000's higher-order hotends: no first-order decay or lag to read; their figures stay 0
+  // from start(), as a cold start's).
+  compute_step_ = hot_start_ && !long_response() ? 0 : kCoolDecaySteps;
   enter(Phase::kCompute);
 }
 
 // The full-power slope S = K/T (per bin, °C × 256) the fan step's fall is read against; relay_t
-// the relay's mean T (s × 256; 0: none). After a hold, where the first cool-down's T is at least
-// ¾ of the relay's (a dead-time hotend: 0.77–0.94 × on the bank; a thermistor lag slows the first
-// decay, and the relay reads a lag as a long T: 0.39–0.70 ×), K·(1/T): the S the approach
-// learnt at full power soon after a switch-on read 24–31 % steep there (seed002, seed004,
-// fopdt-120-25), and F 15–18 % low with it. K < 2^19 and relay T < 2^23: each mul_q16 fits.
+// the relay's mean T (s × 256; 0: none). On a hot start whose first cool-down's T is at least ¾
+// of the relay's (an FOPDT: 0.75–1.0 × on the bank; a thermistor lag slows the first decay, and
+// the relay reads a lag as a long T: 0.28–0.7 ×), K·(1/T): the S the approach learnt at full
+// power soon after a switch-on read 24–31 % steep there (seed002, seed004, fopdt-120-25 after a
+// hold), and F 15–18 % low with it. K < 2^19 and relay T < 2^23: each mul_q16 fits.
 __attribute__((noinline)) int32_t Autotune::fan_slope_q8(int32_t k_q8, int32_t relay_t_q8) const {
   const uint16_t rate_q16 = static_cast<uint16_t>(store_.c.decay_q24 >> 8);
   if (rate_q16 == 0 || relay_t_q8 <= 0 || 3 * fixed::mul_q16(relay_t_q8, rate_q16) > 4 * seconds_q8(kTicksPerBin)) {
@@ -1671,16 +1674,17 @@ __attribute__((noinline)) int32_t Autotune::fan_slope_q8(int32_t k_q8, int32_t r
   return fixed::mul_q16(k_q8, rate_q16);
 }
 
-// The compute's first steps (held starts only): the first cool-down (HeldDecay) as 1/T per bin
-// (Q24) and T (s × 256), both 0 where there is none. From a steady hold the heater's switch-off is
-// a clean step, and past the dead time an FOPDT decays as e^(−t/T): ln(rise_a/rise_b) over the
-// span in bins is its 1/T. The whole span (3–10 bins on the bank) matters: the baseline's 2-bin
-// slope read fopdt-120-25's T 1.6–3.7 % long at σ 0.1 °C, and its model-following heat-up
-// overshoots ~1.4 °C per 1 %. One logarithm or division per step: ln < 2^20 (rise_a < 2^17),
+// The compute's first steps (hot starts only): the first cool-down (CoolDecay) as 1/T per bin
+// (Q24) and T (s × 256), both 0 where there is none. An FOPDT's state is first order: once the
+// heater has been off for a dead time, the reading decays as e^(−t/T) whatever heated it before
+// (a steady hold, or M109's heat still in flight), and ln(rise_a/rise_b) over the span in bins is
+// its 1/T. The whole span (3–10 bins on the bank) matters: the baseline's 2-bin slope read
+// fopdt-120-25's T 1.6–3.7 % long at σ 0.1 °C, and its model-following heat-up overshoots
+// ~1.4 °C per 1 %. One logarithm or division per step: ln < 2^20 (rise_a < 2^17),
 // × 2^8 < 2^28; s per bin (q8) < 2^9, × 2^8 × 2^16 (div_q16 normalises) ÷ 1/T.
-void Autotune::held_decay_step(uint8_t s) {
+void Autotune::decay_step(uint8_t s) {
   Compute& v = near(store_.c);
-  const HeldDecay& d = fd_.decay;
+  const CoolDecay& d = fd_.decay;
   if (s == 0) {
     v.t_decay_q8 = 0;  // here: the span's ln, Q16
     v.decay_q24 = 0;
@@ -1696,14 +1700,14 @@ void Autotune::held_decay_step(uint8_t s) {
   }
 }
 
-// Compute steps 10–13 of a held hot start whose relay saw a lag (compute_chunk). A first-order
+// Compute steps 10–13 of a hot start whose relay saw a lag (compute_chunk). A first-order
 // sensor lag τ behind the block K/(1 + sT) has |G(jω)| = K/(ωT·√(1 + ω²τ²)) = 1/Ku at the relay's
 // ω = 2π/Tu (ωT ≫ 1): with X = (K/T)·Ku·Tu/(2π·255) (Ku on Marlin's 0..255 scale),
 // τ = √(X² − 1)·Tu/(2π). τ replaces D (and is the design's thermistor lag) where it is longer and
 // under T/2 (a longer one is no first-order lag behind this block). One division per step, all
 // 32-bit: K/T in Q11 (K·256 < 2^20, << 11 < 2^31); Ku·Tu/1602.2 in Q16 (each Q8 < 2^16: the
 // product fits); X in Q12 where their product fits and X < 16 (else no lag is taken: τ > 2.4 Tu).
-__attribute__((noinline)) void Autotune::held_lag_stage(uint8_t s) {
+__attribute__((noinline)) void Autotune::relay_lag_stage(uint8_t s) {
   Compute& v = near(store_.c);
   HotendModel& m = near(result_.model);
   const AutotuneUltimate& u = result_.ultimate;
@@ -1775,11 +1779,11 @@ bool Autotune::compute_chunk() {
   const uint8_t stored = stored_count_ < kMaxStoredCycles ? stored_count_ : kMaxStoredCycles;
   constexpr uint8_t k0 = 6;  // compute steps of the no-fan gain
   uint8_t s = compute_step_++;
-  if (s < kHeldDecaySteps) {
-    held_decay_step(s);
+  if (s < kCoolDecaySteps) {
+    decay_step(s);
     return false;
   }
-  s = static_cast<uint8_t>(s - kHeldDecaySteps);
+  s = static_cast<uint8_t>(s - kCoolDecaySteps);
   if (s < k0 || (s >= k0 + kCycleSteps * stored && s < k0 + kFanSteps + kCycleSteps * stored)) {  // fan: subs 0–5
     // Gain = mean rise / mean duty over the measured cycles [0] or the fan step [1].
     const uint8_t part = s < k0 ? 0 : 1;
@@ -1795,8 +1799,8 @@ bool Autotune::compute_chunk() {
       v.a_hi = first_ticks_ > 0 ? first_dev_ / first_ticks_ : 0;
     } else if (sub == 0) {
       v.sigma_q6 = lag_sigma_q6(v.k_q8);
-      // The relay's T for fan_slope_q8 (a held start's: its lag fit, if any, took this step's division).
-      v.lambda = v.sigma_q6 == 0 && held_start() && v.tl_count > 0 ? v.t_sum_q8 / v.tl_count : 0;
+      // The relay's T for fan_slope_q8 (a hot start's: its lag fit, if any, took this step's division).
+      v.lambda = v.sigma_q6 == 0 && hot_start_ && v.tl_count > 0 ? v.t_sum_q8 / v.tl_count : 0;
     } else if (sub == 1 && part == 1) {
       // A lag-type hotend's S is its sensor's steepest heat-up slope, where the fall's ẏ/S wants
       // the duty that drives the two lags' Σ·ẏ: the factor Σ·S/K, Q16 (Σ·S < 2^29 >> 6; div_q16
@@ -2045,13 +2049,13 @@ bool Autotune::compute_chunk() {
         // bound in simavr). On FOPDT hotends the two agree within 1.3 × and the relay's is kept.
         // seconds per bin (q8) < 2^9, × 2^16 < 2^25; ÷ 1/T (Q16, ≥ 1).
         const uint32_t t_loss = div_q16(static_cast<uint32_t>(seconds_q8(kTicksPerBin)), inv_t_nofan_q16_);
-        // After a hold, the first cool-down's T (held_decay_step) where the relay's T is within 4/3 of it:
-        // a heater switched off from a steady state is a clean step, and an FOPDT's decay then
-        // gives T (within 1–4 % on the bank; the relay's reads 7–30 % long on a dead time, the
-        // loss 16–35 % short). A thermistor lag slows the first decay and the relay reads it as a
-        // long T (1.43–2.5 × the decay's): there the loss below, but never above the decay's T,
+        // The first cool-down's T (decay_step) where the relay's T is within 4/3 of it: an FOPDT's
+        // decay gives T (within 1–4 % on the bank after a hold; the relay's reads 7–30 % long on
+        // a dead time, the loss 16–35 % short; relay/decay 0.99–1.33). A thermistor lag slows the
+        // first decay and the relay reads it as a long T (relay/decay 1.4–3.6 on the two-node
+        // hotends, heavy-slow, seed003): there the loss below, but never above the decay's T,
         // which bounds the block's (the sensor's decay only lags it; seed003 from S − 30 read the
-        // loss at 113 s, the decay 74 s). (t_loss < 2^25: × 3 fits; T's < 2^25: × 4 fits.)
+        // loss at 113 s, the decay 83 s). (t_loss < 2^25: × 3 fits; T's < 2^25: × 4 fits.)
         const uint32_t t_decay = static_cast<uint32_t>(v.t_decay_q8);
         if (t_decay > 0 && !no_relay_t && 3 * static_cast<uint32_t>(m.time_constant_q8) <= 4 * t_decay) {
           m.time_constant_q8 = v.t_decay_q8;
@@ -2102,15 +2106,16 @@ bool Autotune::compute_chunk() {
     case 11:
     case 12:
     case 13:
-      held_lag_stage(s);
+      relay_lag_stage(s);
       return false;
     case 9:
       result_.ultimate.tu_q8 = ku_count_ > 0 ? static_cast<int32_t>(tu_sum_q8_ / ku_count_) : 0;
-      // After a hold, where the relay read a lag as a long T (case 6 took the loss's T), the
-      // relay's D is the phase's leftover and reads short (hotend80w: 1.9 s for a 4.6 s lag). With
-      // K and T known, the relay's amplitude gives the lag (held_lag_stage, steps 10–13). Every
-      // other tune ends here, in as many steps as before.
-      if (held_start() && 2 * v.a_hi > 3 * m.time_constant_q8) return false;
+      // A hot start whose relay read a lag as a long T (case 6 took the loss's T): the relay's D
+      // is the phase's leftover and reads short (hotend80w: 1.9 s for a 4.6 s lag). With K and T
+      // known, the relay's amplitude gives the lag (relay_lag_stage, steps 10–13); not on a
+      // response that outlasted the history (seed000-5 after it: 3.9 → 5.0 °C over). Every other
+      // tune ends here, in as many steps as before.
+      if (hot_start_ && !long_response() && 2 * v.a_hi > 3 * m.time_constant_q8) return false;
       // fall through
     default:
       m.rise_q8 = v.k_q8;

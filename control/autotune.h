@@ -48,7 +48,7 @@
 //             a fit of K·t − ∫y = Σ·y + Π·ẏ at two heat-up points (else the heat-up slope), L from the relay amplitude;
 //             a cold cut probe: T = p/ln(K/(K − peak)) from its pulse where it agrees within 20 %);
 //             F = K·ū_F/rise − 1 from the fan step; K corrected for the relay's drift
-//             (K·ū = rise + T·ẏ). After a hold: T from the first cool-down's decay where the
+//             (K·ū = rise + T·ẏ). A hot start: T from the first cool-down's decay where the
 //             relay's T is within 4/3 of it (then also S = K/T for F), else the loss's T (never
 //             above the decay's), and there the sensor lag τ from the relay's amplitude,
 //             K/(ωT·√(1 + ω²τ²)) = 1/Ku, as D where longer; one small piece per step (≈ 122 steps)
@@ -364,10 +364,10 @@ class Autotune {
   uint16_t hold_gain_q4_ = 0;  // start()'s hold_gain_q8 in °C × 16 (0: none; 2 B of RAM)
   bool held_start() const { return hot_start_ && hold_gain_q4_ != 0; }  // a hot start after a hold
   int32_t fan_slope_q8(int32_t k_q8, int32_t relay_t_q8) const;
-  void held_lag_stage(uint8_t s);
+  void relay_lag_stage(uint8_t s);
   void note_decay();
-  void held_decay_step(uint8_t s);
-  static constexpr uint8_t kHeldDecaySteps = 3;  // the compute's first steps (held_decay_step)
+  void decay_step(uint8_t s);
+  static constexpr uint8_t kCoolDecaySteps = 3;  // the compute's first steps on a hot start (decay_step)
   // Reading noise, measured while nothing but noise moves the reading (baseline, cooling, the
   // probe until its response shows): Σ|second difference| over noise_n_ readings, and the σ
   // it gives (°C × 256). The probe's thresholds, the relay's hysteresis and the trend guard's
@@ -464,7 +464,7 @@ class Autotune {
     int32_t t_sum_q8, l_sum_q8;
     int32_t sigma_q6;  // τ1 + τ2 from the heat-up's lag fit, bins × 64 (0: none)
     uint8_t tl_count;
-    // A held start's first cool-down (held_decay_step): 1/T per bin, Q24, and T, s × 256 (0: none).
+    // A hot start's first cool-down (decay_step): 1/T per bin, Q24, and T, s × 256 (0: none).
     // (Within the fit's share of the union: no RAM of their own.)
     int32_t decay_q24, t_decay_q8;
   };
@@ -483,19 +483,19 @@ class Autotune {
     uint8_t stage;     // next piece of the latched sample (fit_stage), 0: none pending
     uint8_t solve;     // last piece of fit_solve done, 0: not started, 0xFF: done (or skipped)
   };
-  // A held hot start's first cool-down (the heater off after a steady hold: a clean step). Its
-  // decay's first point is the bin after the first one 1 °C below where the cool-down began;
-  // its last is the baseline's (stage 2).
-  struct HeldDecay {
+  // A hot start's first cool-down (the heater off: past a dead time, an FOPDT's clean decay). Its
+  // first point is the bin after the first one 1 °C below where the cool-down began; its last is
+  // the baseline's (stage 2).
+  struct CoolDecay {
     int32_t rise_a_q8;   // the first point's rise above ambient
     uint32_t tick_a;     // ... and its tick (0: none yet)
     int32_t rise_b_q8;   // the baseline's rise
     uint16_t bins;       // bins from the first point to the baseline's (0: none)
   };
-  union FitOrDecay {  // a cold start's fit, or a held hot start's decay (a hot start never fits)
+  union FitOrDecay {  // a cold start's fit, or a hot start's decay (a hot start never fits)
     constexpr FitOrDecay() : fit{} {}
     LagFit fit;
-    HeldDecay decay;
+    CoolDecay decay;
   };
   FitOrDecay fd_;
   union ComputeStore {

@@ -23,6 +23,7 @@
 #include "firmware/controller_bank.h"
 #include "host_tests/controller_rig.h"
 #include "host_tests/heat_fan_step.h"
+#include "host_tests/m109_preheat.h"
 
 namespace after_u1 {
 
@@ -86,19 +87,27 @@ inline const Plant* find(const std::vector<Plant>& ps, const std::string& name) 
   return nullptr;
 }
 
-// M303 E0 S<target> C5 U1 F1 on the plant, from ambient or (held_c > 0) a hot start held at
-// held_c long enough for the firmware's steady hold to have passed its static gain, which the
-// rig takes exact (as host_tests/test_autotune.cpp); false if it did not finish.
+// How a hot start reached its start temperature (tune()'s start_c).
+enum class HotStart : uint8_t {
+  kHeld,       // held there long enough for the firmware's steady hold to pass its K (rig: exact)
+  kUnheld,     // held there, M303 sent before the hold's 65 s (no K)
+  kAfterM109,  // `M109 S<start_c>` from cold on the default PID, M303 at M109's ±1 °C window
+};
+
+// M303 E0 S<target> C5 U1 F1 on the plant, from ambient or (start_c > 0) a hot start at start_c
+// reached as `how` says; false if it did not finish.
 inline bool tune(const Plant& p, unsigned long long noise_seed, double noise_c, control::AutotuneResult* out,
-                 double held_c = 0) {
+                 double start_c = 0, HotStart how = HotStart::kHeld) {
   design::PlantSim sim(p.model);
   sim.set_noise(noise_c);
   sim.set_noise_seed(noise_seed);
   int32_t hold_gain_q8 = 0;
-  if (held_c > 0) {
-    const double duty = (held_c - p.model.ambient_c) / design::dc_gain(p.model);
+  if (start_c > 0 && how == HotStart::kAfterM109) {
+    host_rig::heat_as_m109(sim, start_c);
+  } else if (start_c > 0) {
+    const double duty = (start_c - p.model.ambient_c) / design::dc_gain(p.model);
     for (int i = 0; i < 40000; ++i) sim.run(duty, kPeriodS);
-    hold_gain_q8 = static_cast<int32_t>(std::lround((held_c - 25.0) / duty * 256));
+    if (how == HotStart::kHeld) hold_gain_q8 = static_cast<int32_t>(std::lround((start_c - 25.0) / duty * 256));
   }
   control::Autotune at;
   at.configure(firmware::kControlPeriodMs, 1800);
@@ -168,10 +177,11 @@ inline Figures run(const Plant& p, const Applied& a, std::vector<double>* trace 
 
 // Tune, design and apply as the firmware does, then run: the figures after U1.
 inline Figures after_u1(const Plant& p, unsigned long long seed, double noise_c = 0.1,
-                        control::AutotuneResult* result = nullptr, bool* chose_sf = nullptr, double held_c = 0) {
+                        control::AutotuneResult* result = nullptr, bool* chose_sf = nullptr, double start_c = 0,
+                        HotStart how = HotStart::kHeld) {
   control::AutotuneResult r{};
   Figures f;
-  if (!tune(p, seed, noise_c, &r, held_c)) return f;
+  if (!tune(p, seed, noise_c, &r, start_c, how)) return f;
   if (result) *result = r;
   control::TunedDesign d;
   if (!control::design_from_tune(r, firmware::kControlPeriodMs, &d)) return f;

@@ -20,6 +20,7 @@
 #include "design/seed_models.h"
 #include "design/plant_sim.h"
 #include "host_tests/lag_delay_hotend.h"
+#include "host_tests/m109_preheat.h"
 
 namespace {
 
@@ -125,17 +126,7 @@ TuneRun run(const Plant& p, uint8_t cycles = 3, bool fan = true, double noise = 
   sim.set_gain_error(heater_scale);
   double start_duty = 0;
   if (after_m109) {
-    // As `M109 S<start>` then M303: heated from cold by the firmware's default PID (M301 P34 I1
-    // D100), the tune starts the moment the reading is within 1 °C of the start (M109's window),
-    // with the heat still in flight behind the plant's lags.
-    control::Pid pid;
-    pid.configure(control::PidGains{34L << 16, 1L << 16, 100L << 16}, 128);
-    const int32_t to_q8 = static_cast<int32_t>(std::lround(start_c * 256));
-    for (int i = 0; i < 40000; ++i) {
-      const int32_t y = static_cast<int32_t>(std::lround(sim.measured_c() * 256));
-      if (y >= to_q8 - 256) break;
-      sim.run(pid.step(to_q8, y) / 65535.0, kPeriodS);
-    }
+    host_rig::heat_as_m109(sim, start_c);  // as `M109 S<start>` then M303
   } else if (start_c > 25.5) {
     // Hold the start temperature a long while (as a printer idling there) before the tune.
     start_duty = (start_c - 25.0) / design::dc_gain(p.model);

@@ -50,22 +50,35 @@ TEST(AutotuneAfterU1, EveryPlantMeetsTheTargetsOrItsKnownMiss) {
   }
 }
 
-// After a held hot start (M303 at S after printing at S − 10 long enough for the steady hold):
-// the same heat-up from ambient and fan step with what U1 applied. AUTOTUNE_HELD_FROM=<°C from
-// the target> starts elsewhere (−10; "cold": from ambient, for comparison), AUTOTUNE_HELD_SEED=n
-// takes another noise realisation.
+// The hot starts' modes by name (AUTOTUNE_HELD_MODE, AUTOTUNE_HELD_MODES).
+after_u1::HotStart hot_start_mode(const std::string& name) {
+  return name == "unheld" ? after_u1::HotStart::kUnheld
+         : name == "m109" ? after_u1::HotStart::kAfterM109
+                          : after_u1::HotStart::kHeld;
+}
+
+// After a hot start (M303 at S after printing at S − 10 long enough for the steady hold): the
+// same heat-up from ambient and fan step with what U1 applied, and the model. AUTOTUNE_HELD_FROM=
+// <°C from the target> starts elsewhere (−10; "cold": from ambient, for comparison),
+// AUTOTUNE_HELD_SEED=n takes another noise realisation, AUTOTUNE_HELD_MODE=unheld|m109 another way
+// of getting there (after_u1::HotStart).
 TEST(AutotuneAfterU1, HeldHotStartTable) {
   const char* from_env = std::getenv("AUTOTUNE_HELD_FROM");
   const bool cold = from_env != nullptr && std::string(from_env) == "cold";
   const double from = from_env != nullptr ? std::atof(from_env) : -10.0;
-  const char* seed_env = std::getenv("AUTOTUNE_HELD_SEED");  // another noise realisation (12345)
+  const char* seed_env = std::getenv("AUTOTUNE_HELD_SEED");
   const unsigned long long seed = seed_env != nullptr ? std::strtoull(seed_env, nullptr, 10) : 12345;
+  const char* mode_env = std::getenv("AUTOTUNE_HELD_MODE");
+  const after_u1::HotStart how = hot_start_mode(mode_env ? mode_env : "held");
+  // AUTOTUNE_HELD_SEED000=1: seed000-4 and seed000-5 instead (slow: 150 °C, 2,400 s runs).
+  const std::vector<after_u1::Plant> ps =
+      std::getenv("AUTOTUNE_HELD_SEED000") != nullptr ? after_u1::seed000_plants() : after_u1::plants();
   std::printf("%-17s %-7s %8s %8s %7s %6s | %7s %7s %6s %6s %6s %6s\n", "plant", "U1", "os °C", "set ×", "p-p °C", "dip °C",
               "A", "C s", "D s", "Ku", "Tu s", "F %");
-  for (const after_u1::Plant& p : after_u1::plants()) {
+  for (const after_u1::Plant& p : ps) {
     control::AutotuneResult r{};
     bool sf = false;
-    const Figures f = after_u1::after_u1(p, seed, 0.1, &r, &sf, cold ? 0.0 : p.target_c + from);
+    const Figures f = after_u1::after_u1(p, seed, 0.1, &r, &sf, cold ? 0.0 : p.target_c + from, how);
     std::printf("%-17s %-7s %8.2f %8.2f %7.3f %6.2f | %7.1f %7.1f %6.2f %6.2f %6.2f %6.2f%s\n", p.name.c_str(),
                 sf ? "statefb" : "pid+ff", f.overshoot_c, f.settling_ratio, f.steady_pp_c, f.dip_c,
                 r.model.rise_q8 / 256.0, r.model.time_constant_q8 / 256.0, r.model.dead_time_q8 / 256.0,
@@ -73,81 +86,123 @@ TEST(AutotuneAfterU1, HeldHotStartTable) {
   }
 }
 
-// After a hold (SteadyHold's K) at S − 60, S − 30, S − 10 and S + 20 °C, what U1 applies meets
-// issue 7's targets on every plant whose tune finishes, or its known miss (kHeldMisses). Before
-// the hold's decay and lag (docs/autotune.md, "After a hold: the cool-down's T and the relay's
-// lag"), over these starts at 3 noise seeds: seed002 overshot 7–14 °C, seed004 7–13, seed003
-// 10–14, hotend80w 4–5, heavy-slow 2–4 (2.6 × bound). Tunes that end without a result are the
-// tune tables' business (host_tests/test_autotune.cpp); here they are counted and bounded.
-// AUTOTUNE_HELD_SWEEP="−60,−45,…" (°C from the target), AUTOTUNE_HELD_SEEDS=n (12345, 1, 2, …) and
-// AUTOTUNE_HELD_NOISE=σ widen it into the diagnostic sweep (its limits still asserted).
-const std::map<std::string, Limits> kHeldMisses = {
-    // A 5 s transport delay before the lag: every T the hot start reads is long (decay 270–297 s,
-    // loss ~300, relay 375 for 245.6), so the heat-up is slow: 1.26–1.49 × bound over 9 starts ×
-    // 3 seeds (1.68–1.70 × before); from S and S + 20, 1.1–1.8 °C over with C read right.
-    {"hotend40w-delay5", {1.3, 1.55}},
-    // From S − 30 the approach's loss read T 113 s and its S half the others' (an approach
-    // issue, not the decay's): F 98 % and C 83 s; 4.6–5.5 °C over (the same before).
-    {"seed003", {5.6, 1.2}},
+struct HotLimits {
+  double overshoot_c, settling_ratio, dip_c;
 };
 
-TEST(AutotuneAfterU1, AfterAHoldEveryPlantMeetsTheTargetsOrItsKnownMiss) {
+// After a hot start, held (SteadyHold's K) or unheld at S − 60, S − 30, S − 10 and S + 20 °C, or
+// right after `M109` at S − 100, −60, −30, −10 (after_u1::HotStart), what U1 applies meets issue
+// 7's targets on every plant whose tune finishes, or its known miss (kHotMisses). Before the
+// cool-down's T and the relay's lag (docs/autotune.md, "A hot start's time constant from its
+// cool-down"), most of these runs missed a target: seed002 overshot 8.8–14 °C, seed004 7–11,
+// seed003 8–12, fopdt-120-25 up to 13, hotend80w 2–5, heavy-slow up to 6 (2.7 × bound).
+// Tunes that end without a result are the tune tables' business (host_tests/test_autotune.cpp;
+// after M109 seed002 and seed004 abort on the default PID's own overshoot): counted and bounded.
+// AUTOTUNE_HELD_SWEEP="−60,−45,…" (°C from the target, every mode), AUTOTUNE_HELD_MODES=
+// "held,unheld,m109", AUTOTUNE_HELD_SEEDS=n (12345, 1, 2, …) and AUTOTUNE_HELD_NOISE=σ widen it
+// into a diagnostic sweep (its limits still asserted).
+const std::map<std::string, HotLimits> kHotMisses = {
+    // A 5 s transport delay before the lag: every T a hot start reads is off (held: decay 270–297
+    // s, loss ~300, relay 375 for 245.6; after M109: 220–230), so U1 heats slowly (1.26–1.49 ×
+    // bound) or, from S and S + 20 held or after M109, overshoots 1.1–3.7 °C.
+    {"hotend40w-delay5", {3.8, 1.55, 1.0}},
+    // From S − 30 (held, unheld) and S − 10 (unheld, after M109) the approach's loss read a long
+    // T and its S half the other starts': F 60–98 %, C 71–83 s; 3.1–5.5 °C over.
+    {"seed003", {5.6, 1.2, 1.0}},
+    // Unheld, the relay's K and a loss-read C of 472–508 s (285.7): 1.24–1.26 × bound, dip 1.09.
+    {"heavy-slow", {1.0, 1.3, 1.2}},
+    // After M109 from S − 60: 1.47 × bound (C 118.4, D 25.1: the model is right; the heat-up's
+    // PID following it lands slowly).
+    {"fopdt-delay25", {1.0, 1.5, 1.0}},
+};
+constexpr int kHotUnfinished = 16;  // held 1, unheld 2, after M109 13 (seed002, seed004: 4 each)
+constexpr int kHotUnsure = 1;  // heavy-slow after M109 from S − 100 (its relay's figures: 6.3 °C over, as before)
+
+TEST(AutotuneAfterU1, AfterAHotStartEveryPlantMeetsTheTargetsOrItsKnownMiss) {
+  struct Mode {
+    std::string name;
+    std::vector<double> froms;
+  };
+  std::vector<Mode> modes = {{"held", {-60, -30, -10, 20}}, {"unheld", {-60, -30, -10, 20}},
+                             {"m109", {-100, -60, -30, -10}}};
   const char* sweep_env = std::getenv("AUTOTUNE_HELD_SWEEP");
-  std::vector<double> froms;
-  {
-    std::istringstream fs(sweep_env ? sweep_env : "-60,-30,-10,20");
+  if (sweep_env != nullptr) {
+    std::vector<double> froms;
+    std::istringstream fs(sweep_env);
     std::string tok;
     while (std::getline(fs, tok, ',')) froms.push_back(std::atof(tok.c_str()));
+    for (Mode& m : modes) m.froms = froms;
+  }
+  const char* modes_env = std::getenv("AUTOTUNE_HELD_MODES");
+  if (modes_env != nullptr) {
+    std::vector<Mode> chosen;
+    for (const Mode& m : modes)
+      if (std::string(modes_env).find(m.name) != std::string::npos) chosen.push_back(m);
+    modes = chosen;
   }
   const char* seeds_env = std::getenv("AUTOTUNE_HELD_SEEDS");
   const int n_seeds = seeds_env ? std::atoi(seeds_env) : 1;
   const char* noise_env = std::getenv("AUTOTUNE_HELD_NOISE");
   const double noise = noise_env ? std::atof(noise_env) : 0.1;
-  std::printf("%-17s %5s %5s | %8s %8s %7s %6s | %s\n", "plant", "runs", "unfin", "os °C", "set ×", "p-p °C", "dip °C",
-              "largest overshoot (from, seed)");
-  int unfinished_all = 0;
-  for (const after_u1::Plant& p : after_u1::plants()) {
-    const auto miss = kHeldMisses.find(p.name);
-    const Limits lim = miss == kHeldMisses.end() ? Limits{1.0, 1.2} : miss->second;
-    int runs = 0, unfinished = 0;
-    Figures worst;
-    double worst_from = 0;
-    unsigned long long worst_seed = 0;
-    for (double from : froms) {
-      for (int si = 0; si < n_seeds; ++si) {
-        const unsigned long long seed = si == 0 ? 12345ULL : static_cast<unsigned long long>(si);
-        control::AutotuneResult r{};
-        bool sf = false;
-        const Figures f = after_u1::after_u1(p, seed, noise, &r, &sf, p.target_c + from);
-        if (r.model.rise_q8 == 0) {  // the tune ended without a result
-          ++unfinished;
-          continue;
+  int unfinished_all = 0, over_all = 0, runs_all = 0, unsure = 0;
+  for (const Mode& mode : modes) {
+    std::printf("%s\n%-17s %5s %5s | %8s %8s %7s %6s | %s\n", mode.name.c_str(), "plant", "runs", "unfin", "os °C",
+                "set ×", "p-p °C", "dip °C", "largest overshoot (from, seed)");
+    for (const after_u1::Plant& p : after_u1::plants()) {
+      const auto miss = kHotMisses.find(p.name);
+      const HotLimits lim = miss == kHotMisses.end() ? HotLimits{1.0, 1.2, 1.0} : miss->second;
+      int runs = 0, unfinished = 0;
+      Figures worst;
+      double worst_from = 0;
+      unsigned long long worst_seed = 0;
+      for (double from : mode.froms) {
+        for (int si = 0; si < n_seeds; ++si) {
+          const unsigned long long seed = si == 0 ? 12345ULL : static_cast<unsigned long long>(si);
+          control::AutotuneResult r{};
+          bool sf = false;
+          const Figures f = after_u1::after_u1(p, seed, noise, &r, &sf, p.target_c + from, hot_start_mode(mode.name));
+          if (r.model.rise_q8 == 0) {  // the tune ended without a result
+            ++unfinished;
+            continue;
+          }
+          if (r.unsure) {  // a response that outlasted the history: the relay's figures, as before
+            ++unsure;
+            std::printf("   unsure %s from %+.0f seed %llu: os %.2f set %.2f p-p %.3f dip %.2f (C %.1f D %.2f)\n",
+                        p.name.c_str(), from, seed, f.overshoot_c, f.settling_ratio, f.steady_pp_c, f.dip_c,
+                        r.model.time_constant_q8 / 256.0, r.model.dead_time_q8 / 256.0);
+            continue;
+          }
+          ++runs;
+          const bool over = !f.ok || f.overshoot_c > 1.0 || f.settling_ratio > 1.2 || f.steady_pp_c > 0.5 || f.dip_c > 1.0;
+          const bool met = f.ok && f.overshoot_c <= lim.overshoot_c && f.settling_ratio <= lim.settling_ratio &&
+                           f.steady_pp_c <= 0.5 && f.dip_c <= lim.dip_c;
+          if (over) {
+            ++over_all;
+            std::printf("   %s %s from %+.0f seed %llu: os %.2f set %.2f p-p %.3f dip %.2f%s (C %.1f D %.2f F %.1f)\n",
+                        met ? "known miss" : "MISS", p.name.c_str(), from, seed, f.overshoot_c, f.settling_ratio,
+                        f.steady_pp_c, f.dip_c, f.ok ? "" : " not back in ±1 °C", r.model.time_constant_q8 / 256.0,
+                        r.model.dead_time_q8 / 256.0, r.model.fan_loss_pct_q8 / 256.0);
+          }
+          EXPECT_TRUE(met) << mode.name << " " << p.name << " from " << from << " seed " << seed;
+          if (f.overshoot_c > worst.overshoot_c) worst_from = from, worst_seed = seed;
+          worst.overshoot_c = std::max(worst.overshoot_c, f.overshoot_c);
+          worst.settling_ratio = std::max(worst.settling_ratio, f.settling_ratio);
+          worst.steady_pp_c = std::max(worst.steady_pp_c, f.steady_pp_c);
+          worst.dip_c = std::max(worst.dip_c, f.dip_c);
         }
-        ++runs;
-        const bool met = f.ok && f.overshoot_c <= lim.overshoot_c && f.settling_ratio <= lim.settling_ratio &&
-                         f.steady_pp_c <= 0.5 && f.dip_c <= 1.0;
-        if (!met || f.overshoot_c > 1.0 || f.settling_ratio > 1.2) {
-          std::printf("   %s %s from %+.0f seed %llu: os %.2f set %.2f p-p %.3f dip %.2f%s (C %.1f D %.2f F %.1f)\n",
-                      met ? "known miss" : "MISS", p.name.c_str(), from, seed, f.overshoot_c, f.settling_ratio,
-                      f.steady_pp_c, f.dip_c, f.ok ? "" : " not back in ±1 °C", r.model.time_constant_q8 / 256.0,
-                      r.model.dead_time_q8 / 256.0, r.model.fan_loss_pct_q8 / 256.0);
-        }
-        EXPECT_TRUE(met) << p.name << " from " << from << " seed " << seed;
-        if (f.overshoot_c > worst.overshoot_c) worst_from = from, worst_seed = seed;
-        worst.overshoot_c = std::max(worst.overshoot_c, f.overshoot_c);
-        worst.settling_ratio = std::max(worst.settling_ratio, f.settling_ratio);
-        worst.steady_pp_c = std::max(worst.steady_pp_c, f.steady_pp_c);
-        worst.dip_c = std::max(worst.dip_c, f.dip_c);
       }
+      unfinished_all += unfinished;
+      runs_all += runs;
+      std::printf("%-17s %5d %5d | %8.2f %8.2f %7.3f %6.2f | (%+.0f, %llu)\n", p.name.c_str(), runs, unfinished,
+                  worst.overshoot_c, worst.settling_ratio, worst.steady_pp_c, worst.dip_c, worst_from, worst_seed);
     }
-    unfinished_all += unfinished;
-    std::printf("%-17s %5d %5d | %8.2f %8.2f %7.3f %6.2f | (%+.0f, %llu)\n", p.name.c_str(), runs, unfinished,
-                worst.overshoot_c, worst.settling_ratio, worst.steady_pp_c, worst.dip_c, worst_from, worst_seed);
   }
-  // The known relay failure from above the target (fopdt-120-25 from S + 20: docs/autotune.md,
-  // "Not done"), no more.
-  if (sweep_env == nullptr && seeds_env == nullptr && noise_env == nullptr) {
-    EXPECT_LE(unfinished_all, 1);
+  std::printf("%d of %d finished tunes over a target after U1; %d unsure, %d unfinished\n", over_all, runs_all, unsure,
+              unfinished_all);
+  // The known relay failures and aborts, and unsure tunes, no more.
+  if (sweep_env == nullptr && seeds_env == nullptr && noise_env == nullptr && modes_env == nullptr) {
+    EXPECT_LE(unfinished_all, kHotUnfinished);
+    EXPECT_LE(unsure, kHotUnsure);
   }
 }
 

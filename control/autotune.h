@@ -498,12 +498,14 @@ class Autotune {
     CoolDecay decay;
   };
   FitOrDecay fd_;
+  static_assert(sizeof(CoolDecay) <= sizeof(LagFit), "a hot start's decay takes no RAM of its own");
   union ComputeStore {
     constexpr ComputeStore() : c{} {}
     Compute c;
     fixed_math::Scaled fit[kLagFitSums];
   };
   ComputeStore store_;
+  static_assert(sizeof(Compute) <= sizeof(fixed_math::Scaled) * kLagFitSums, "the decay's figures take no RAM of their own");
 
   AutotuneCycle cycle_{0, 0, 0, 0};
   AutotuneUltimate ultimate_{0, 0};

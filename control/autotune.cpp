@@ -1198,8 +1198,9 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         // two-node-delay5's probe read S 585 (Q8 per bin) against 628, re-learnt here on half the
         // noise seeds only (622: C 249 or 265 s by K/S; docs/autotune.md, "d held…").
         // at·(1/T) < 2^17, s4 < 2^15: the sum < 2^18, clamped to 2^15 as the probe's S.
-        // After a hold, the exact rate (stage 10: its own division, the loss learning above has one).
-        if (held_start()) return 10;
+        // After a hold, the exact rate (stage 10: its own division, the loss learning above has
+        // one), while the rise is under ¾ K (there the quotient is under 4 × s4).
+        if (held_start() && s4 > 0 && 4 * (at >> 4) < 3 * int32_t{hold_gain_q4_}) return 10;
         return relearn_slope(fixed::clamp(s4 + fixed::mul_q16(at, inv_t_q16_), int32_t{0}, int32_t{32767}));
       }
       return 5;
@@ -1212,14 +1213,11 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // After a hold K is known, and at full power ẏ = S·(1 − rise/K) exactly, whatever 1/T the
       // probe read (none, from above the target: hotend40w 230 → 210 °C re-learnt S 465 against
       // 629, and its loss, learnt to match, gave T 368 s against 245.6). The same 4-bin slope and
-      // rise as stage 4 (this bin's). s4 < 2^15 × K (Q4) < 2^16: < 2^31; only while the rise is
-      // under ¾ K (the quotient < 4 × s4).
+      // rise as stage 4 (this bin's), which sent only s4 > 0 and a rise under ¾ K here: the
+      // divisor is over K/4 > 0. s4 < 2^15 × K (Q4) < 2^16: < 2^31.
       const int32_t s4 = slope4_q8();
       const int32_t at_q4 = (rise - 2 * s4) >> 4;
       const int32_t k_q4 = hold_gain_q4_;
-      if (s4 <= 0 || 4 * at_q4 >= 3 * k_q4) {
-        return relearn_slope(fixed::clamp(s4 + fixed::mul_q16(rise - 2 * s4, inv_t_q16_), int32_t{0}, int32_t{32767}));
-      }
       const uint32_t s_full = (static_cast<uint32_t>(s4) * static_cast<uint32_t>(k_q4)) / static_cast<uint32_t>(k_q4 - at_q4);
       return relearn_slope(s_full > 32767u ? 32767 : static_cast<int32_t>(s_full));
     }

@@ -1299,6 +1299,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       ap.settled_bins = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? 4 * kSettleBandQ8 : kSettleBandQ8) && !learning
                           ? static_cast<uint8_t>(ap.settled_bins + 1)
                           : 0;
+      settled_window();
       // A P law on a slightly wrong loss stalls short of the target, and the loss learning's
       // resolution (≈ 0.02 °C/bin of slope) may not move it (heavy-slow in simavr: 209.0 °C for
       // an hour). Within 2 °C for 3 (L̂ + 2) bins is near enough: the relay's bias takes over.
@@ -1315,6 +1316,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       return ap.settled_bins >= hb + 2 || ap.near_bins >= 3 * (hb + 2) || ap.crossings >= 2 ? 7 : 0;
     }
     default: {
+      if (settled_hold()) return 0;
       ap.crossings = 0;
       ap.side = 0;
       // Relay around the smoothed duty; d for ±1.5 °C by the probe's model (in-flight rise per
@@ -1342,6 +1344,57 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       return 0;
     }
   }
+}
+
+// The approach's settled window (its last L̂ + 2 bins within ±0.5 °C) as a measurement, per bin:
+// Σ (y − target) (q8) and Σ duty (q8) taken L̂ earlier (the reading shows it then: an FOPDT's
+// T·ẏ + y = K·u(t − D)), and the first half's Σ (y − target) for the window's drift (compute:
+// K·ū = rise + T·ẏ). Restarted whenever the reading leaves the band. |y − target| < 0.5 °C and
+// duty ≤ 255 per bin, ≤ 255 bins: both sums < 2^16. In the relay's per-cycle figures, which the
+// relay sets before it first reads them (relay_tick): cyc_min_q8_ the Σ (y − target),
+// cyc_max_q8_ the Σ duty, cyc_sum_dev_ the first half's (the first two within one LDD's reach).
+void Autotune::settled_window() {
+  const Approach& ap = near(appr_);
+  if (ap.settled_bins == 0) {
+    cyc_min_q8_ = 0;
+    cyc_max_q8_ = 0;
+    return;
+  }
+  // L̂ in bins, rounded (L̂ ≥ 0; a shift: avr-gcc -Os calls a 32-bit division for `/ 8`, +500 cycles)
+  const int32_t shift = (horizon_ticks_ + kTicksPerBin / 2) >> 3;
+  cyc_min_q8_ += y_bin_q8_ - target_q8_;
+  cyc_max_q8_ += duty_ago(static_cast<uint8_t>(shift < horizon_bins_ ? shift : horizon_bins_));
+  if (ap.settled_bins == (ap.bins + 2) / 2) cyc_sum_dev_ = cyc_min_q8_;
+}
+
+// On a dead-time-dominated FOPDT hotend (L̂ ≥ T/5) each relay cycle lasts ≥ 4 L̂ (seed002: 70 s),
+// and the relay's three (a low half of ≥ L̂ and two measured cycles) took 160 s of seed002's
+// 320 s tune. Where the model needs nothing the relay alone gives: a cold start's sharp cut
+// probe (C from the pulse's peak, D its cut-to-peak time: within 0.5 % and 4 % on seed002), its
+// deadbeat approach landed and settled on the target without going past it, and C ≤ 5 (more
+// asks for the relay), the settled window gives A (K·ū = rise + T·ẏ over it) and the fan step
+// follows at once. compute_chunk then has no relay cycle (ku_count_ 0): D from L̂, no Ku/Tu.
+// The window's sums go to the relay's (per tick: × 8; duty q16 >> 4 = q8 × 16: < 2^16 × 128 <
+// 2^23). No division (the step's budget).
+__attribute__((noinline)) bool Autotune::settled_hold() {
+  Approach& ap = near(appr_);
+  if (ap.settled_bins < ap.bins + 2 || untrusted_ || hot_start_ || probe_.continuous || ap.landed != 1 ||
+      ap.lag_probe || ap.overshot || cycles_ > 5 || uint32_t{horizon_bins_} * inv_t_q16_ < kLongHalfLOverTQ16) {
+    return false;
+  }
+  const uint16_t ticks = uint16_t{ap.settled_bins} * kTicksPerBin;
+  first_ticks_ = static_cast<uint16_t>(((ap.bins + 2) / 2) * kTicksPerBin);
+  last_ticks_ = static_cast<uint16_t>(ticks - first_ticks_);
+  sum_ticks_[0] = ticks;
+  sum_dev_[0] = cyc_min_q8_ * kTicksPerBin;
+  first_dev_ = cyc_sum_dev_ * kTicksPerBin;
+  last_dev_ = sum_dev_[0] - first_dev_;
+  sum_duty_[0] = static_cast<uint32_t>(cyc_max_q8_) << 7;
+  // The fan step holds the approach's smoothed duty (near ū: the window is settled; compute
+  // reads the fall against the duty held, whatever it is).
+  bias_q16_ = clamp_duty(ap.duty_avg_q16);
+  end_nofan();
+  return true;
 }
 
 // A relay whose level no longer crosses the steady duty (the fan just came on, or the bias was
@@ -1589,22 +1642,27 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
     if (d < d_q16_ / 2u) d = d_q16_ / 2u;
     d_q16_ = clamp_step(d);
   }
-  if (cycle_index_ >= settling_cycles_ + nofan_measure_) {
-    stage_ = 0;  // the relay's bin stages (if any) do not belong to the next phase
-    inv_t_nofan_q16_ = inv_t_q16_;  // the relay's drift correction (compute), with or without F
-    if (measure_fan_) {
-      // The fan step: fan 100 %, the heater held at the last cycle's mean duty (stage 3 above),
-      // open loop: the fan's loss (F ≥ 0) makes the reading fall, and the fall gives F
-      // (fan_stage; a mean above the steady duty can make it rise instead: that ends the step).
-      fan_ = 255;
-      if (bias_q16_ > kFanHeldMaxQ16) bias_q16_ = kFanHeldMaxQ16;  // (compute reads the held duty here)
-      duty_q16_ = bias_q16_;
-      enter(Phase::kFan);
-    } else {
-      enter_compute();
-    }
-  }
+  if (cycle_index_ >= settling_cycles_ + nofan_measure_) end_nofan();
   return 0;
+}
+
+// The no-fan measurement is done (the relay's cycles, or settled_hold's window). The relay's bin
+// stages (if any) do not belong to the next phase; 1/T as it stands is the drift correction's
+// (compute), with or without F. The fan step (F1): fan 100 %, the heater held at bias_q16_ (the
+// last cycle's mean duty, or the settled approach's), open loop: the fan's loss (F ≥ 0) makes
+// the reading fall, and the fall gives F (fan_stage; a held duty above the steady one can make it
+// rise instead: that ends the step).
+__attribute__((noinline)) void Autotune::end_nofan() {
+  stage_ = 0;
+  inv_t_nofan_q16_ = inv_t_q16_;
+  if (measure_fan_) {
+    fan_ = 255;
+    if (bias_q16_ > kFanHeldMaxQ16) bias_q16_ = kFanHeldMaxQ16;  // (compute reads the held duty here)
+    duty_q16_ = bias_q16_;
+    enter(Phase::kFan);
+  } else {
+    enter_compute();
+  }
 }
 
 // The fan step (F1). Near the no-fan steady state the hotend obeys K·u(t − L) = (1 + F)·rise +
@@ -1974,7 +2032,8 @@ bool Autotune::compute_chunk() {
       m.time_constant_q8 = v.t_sum_q8 / count;
       return false;
     case 2:
-      m.dead_time_q8 = v.l_sum_q8 / count;
+      // No relay (settled_hold): the sharp cut probe's cut-to-peak time, an FOPDT's D.
+      m.dead_time_q8 = ku_count_ == 0 ? seconds_q8(static_cast<uint16_t>(horizon_ticks_)) : v.l_sum_q8 / count;
       return false;
     case 3:
       v.a_hi = m.time_constant_q8;  // the relay's T (case 6 compares)

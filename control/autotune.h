@@ -210,6 +210,9 @@ class Autotune {
   uint8_t relay_stage(uint8_t stage);
   void fan_stage();
   void enter_compute();
+  void settled_window();
+  bool settled_hold();
+  void end_nofan();
   uint16_t fan_wait_bins() const;
   uint16_t fan_span_bins() const;
   void model_bin();

@@ -48,9 +48,11 @@ __attribute__((noinline)) void write_design(gcode::Output& out, const control::A
   write_gain_line(out, GCODE_TEXT("Ki"), d.pid.ki_q16);
   write_gain_line(out, GCODE_TEXT("Kd"), d.pid.kd_q16);
   out.print(echo_autotune_text());
-  out.print(!r.hot_start  ? GCODE_TEXT("model (cold start: heat-up, relay")
-            : r.held_gain ? GCODE_TEXT("model (hot start: the gain of the hold before M303, cool-down, relay")
-                          : GCODE_TEXT("model (hot start: cool-down, relay"));
+  out.print(!r.hot_start  ? GCODE_TEXT("model (cold start: heat-up, ")
+            : r.held_gain ? GCODE_TEXT("model (hot start: the gain of the hold before M303, cool-down, ")
+                          : GCODE_TEXT("model (hot start: cool-down, "));
+  // No relay cycle (Tu 0): a dead-time hotend's settled approach held the target instead.
+  out.print(r.ultimate.tu_q8 == 0 ? GCODE_TEXT("hold at the target") : GCODE_TEXT("relay"));
   out.print(r.model.fan_loss_pct_q8 != 0 ? GCODE_TEXT(", part fan): ") : GCODE_TEXT("): "));
   write_m307(out, r.model);
   // An unsure tune's two-lag fit (control/lag_fit.h): the applied M307 is their two-point FOPDT.

@@ -79,6 +79,10 @@ constexpr uint8_t kDriftSigmaQ4 = 6;
 // σ 0.3 as ≈ 0.27), on a hotend whose L̂/T (probe horizon over the learnt time constant) is ≥ 0.2.
 constexpr uint16_t kLongHalfNoiseQ8 = Autotune::kNoisyQ8;
 constexpr uint32_t kLongHalfLOverTQ16 = 13107;
+// The settled hold's window W = L̂ + 2 bins at least C/3 (settled_hold): its drift correction
+// C·Δy/W then amplifies the halves' centre-to-centre slope at most 3 × (a flat probe's slower
+// approach on fopdt-120-25, C/W 4.3, read A 6 % low on 3 of 9 realisations at σ 0.1).
+constexpr uint32_t kHoldWindowOverTQ16 = 21845;
 constexpr int32_t kLongHalfFarQ8 = 2 * kQ8;
 constexpr uint8_t kGuardSigmaQ4 = 3;
 constexpr int32_t kGuardMarginQ8 = 2 * kQ8;     // untrusted model: relay's trend limit above target
@@ -1367,7 +1371,7 @@ void Autotune::settled_window() {
   if (ap.settled_bins == (ap.bins + 2) / 2) cyc_sum_dev_ = cyc_min_q8_;
 }
 
-// On a dead-time-dominated FOPDT hotend (L̂ ≥ T/5) each relay cycle lasts ≥ 4 L̂ (seed002: 70 s),
+// On a dead-time-dominated FOPDT hotend (L̂ + 2 bins ≥ C/3) each relay cycle lasts ≥ 4 L̂ (seed002: 70 s),
 // and the relay's three (a low half of ≥ L̂ and two measured cycles) took 160 s of seed002's
 // 320 s tune. Where the model needs nothing the relay alone gives: a cold start's sharp cut
 // probe (C from the pulse's peak, D its cut-to-peak time: within 0.5 % and 4 % on seed002), its
@@ -1379,7 +1383,7 @@ void Autotune::settled_window() {
 __attribute__((noinline)) bool Autotune::settled_hold() {
   Approach& ap = near(appr_);
   if (ap.settled_bins < ap.bins + 2 || untrusted_ || hot_start_ || probe_.continuous || ap.landed != 1 ||
-      ap.lag_probe || ap.overshot || cycles_ > 5 || uint32_t{horizon_bins_} * inv_t_q16_ < kLongHalfLOverTQ16) {
+      ap.lag_probe || ap.overshot || cycles_ > 5 || uint32_t{ap.bins + 2u} * inv_t_q16_ < kHoldWindowOverTQ16) {
     return false;
   }
   const uint16_t ticks = uint16_t{ap.settled_bins} * kTicksPerBin;

@@ -37,8 +37,12 @@
 //             from its drift; one settling cycle, then max(2, C − 3) measured. No settling cycle
 //             after an approach that settled (deadbeat or lag-type): a first low half ≥ L̂, and d
 //             kept from then on. A bias under the smallest d (an approach held with the heater
-//             off): levels 0 and 2d, then levels 0 and the first nudge's ū, in a settling cycle
+//             off): levels 0 and 2d, then levels 0 and the first nudge's ū, in a settling cycle.
+//             None at all (settled_hold) on a cold dead-time FOPDT hotend whose sharp probe's
+//             deadbeat approach settled (window L̂ + 2 bins ≥ C/3, C ≤ 5): the settled window's
+//             delay-aligned duty gives K, the probe C and D = L̂; no Ku/Tu (0)
 //   fan step  part fan at 100 %, the heater held open loop at the last relay cycle's mean duty
+//             (after a settled hold: the approach's smoothed duty)
 //             (the reading can only fall); from L̂ + 2 bins on (2 L̂ + 2 lag-type) a window of
 //             ⌈C/2⌉ × (L̂/2 + 4) bins, ended once the reading fell 8 °C: its mean rise and its
 //             fall give the duty that holds the rise with the fan, ū_F = u − ẏ/S
@@ -110,7 +114,8 @@ struct AutotuneResult {
   HotendModel model;        // M307 A C D F
   int32_t sensor_lag_q8;    // the heat-up tangent's dead time when the relay saw a lag (s × 256;
                             // model D is then the two-point fit's), 0 otherwise
-  AutotuneUltimate ultimate;  // averaged over the measured no-fan cycles
+  AutotuneUltimate ultimate;  // averaged over the measured no-fan cycles; 0 when the settled
+                              // approach replaced the relay (Autotune::settled_hold)
   int32_t ambient_q8;       // the ambient A is counted from
   bool hot_start;           // true when the tune started above ambient + 15 °C
   bool unsure;              // the probe's response outlasted the model history (seed000): a

@@ -1373,8 +1373,8 @@ void Autotune::settled_window() {
 
 // On a dead-time-dominated FOPDT hotend (L̂ + 2 bins ≥ C/3) each relay cycle lasts ≥ 4 L̂ (seed002: 70 s),
 // and the relay's three (a low half of ≥ L̂ and two measured cycles) took 160 s of seed002's
-// 320 s tune. Where the model needs nothing the relay alone gives: a cold start's sharp cut
-// probe (C from the pulse's peak, D its cut-to-peak time: within 0.5 % and 4 % on seed002), its
+// 332 s tune. Where the model needs nothing the relay alone gives: a cold start's sharp cut
+// probe (C from the pulse's peak, D its cut-to-peak time: within 0.5 % and 0.2 % on seed002), its
 // deadbeat approach landed and settled on the target without going past it, and C ≤ 5 (more
 // asks for the relay), the settled window gives A (K·ū = rise + T·ẏ over it) and the fan step
 // follows at once. compute_chunk then has no relay cycle (ku_count_ 0): D from L̂, no Ku/Tu.

@@ -23,7 +23,7 @@
 #include "firmware/controller_bank.h"
 #include "host_tests/controller_rig.h"
 #include "host_tests/heat_fan_step.h"
-#include "host_tests/m109_preheat.h"
+#include "host_tests/hot_start_rig.h"
 
 namespace after_u1 {
 
@@ -105,9 +105,8 @@ inline bool tune(const Plant& p, unsigned long long noise_seed, double noise_c, 
   if (start_c > 0 && how == HotStart::kAfterM109) {
     host_rig::heat_as_m109(sim, start_c);
   } else if (start_c > 0) {
-    const double duty = (start_c - p.model.ambient_c) / design::dc_gain(p.model);
-    for (int i = 0; i < 40000; ++i) sim.run(duty, kPeriodS);
-    if (how == HotStart::kHeld) hold_gain_q8 = static_cast<int32_t>(std::lround((start_c - 25.0) / duty * 256));
+    const double duty = host_rig::hold_at(sim, p.model, start_c);
+    if (how == HotStart::kHeld) hold_gain_q8 = host_rig::held_gain_q8(start_c, duty);
   }
   control::Autotune at;
   at.configure(firmware::kControlPeriodMs, 1800);

@@ -20,7 +20,7 @@
 #include "design/seed_models.h"
 #include "design/plant_sim.h"
 #include "host_tests/lag_delay_hotend.h"
-#include "host_tests/m109_preheat.h"
+#include "host_tests/hot_start_rig.h"
 
 namespace {
 
@@ -128,16 +128,14 @@ TuneRun run(const Plant& p, uint8_t cycles = 3, bool fan = true, double noise = 
   if (after_m109) {
     host_rig::heat_as_m109(sim, start_c);  // as `M109 S<start>` then M303
   } else if (start_c > 25.5) {
-    // Hold the start temperature a long while (as a printer idling there) before the tune.
-    start_duty = (start_c - 25.0) / design::dc_gain(p.model);
-    for (int i = 0; i < 40000; ++i) sim.run(start_duty, kPeriodS);
+    start_duty = host_rig::hold_at(sim, p.model, start_c);  // as a printer idling there
   }
   r.heatup_s = full_power_heatup_s(p, start_duty);
   Autotune at;
   at.configure(128, timeout_s);
   // A held start gives the tune the hold's static gain, as the firmware's SteadyHold measures it
   // (mean reading − 25 °C over mean duty; the rig holds it exactly): hold_gain false, none.
-  const int32_t hold_gain_q8 = hold_gain && start_duty > 0 ? static_cast<int32_t>(std::lround((start_c - 25.0) / start_duty * 256)) : 0;
+  const int32_t hold_gain_q8 = hold_gain && start_duty > 0 ? host_rig::held_gain_q8(start_c, start_duty) : 0;
   at.start(static_cast<int32_t>(std::lround(p.target_c * 256)), cycles, fan, Autotune::kMeasureAmbient, hold_gain_q8);
   const double t0 = sim.time_s();
   bool below = false;
@@ -486,7 +484,7 @@ TEST(AutotuneDuration, DefaultEffortC5PerPlant) {
 TEST(AutotuneSettledHold, DeadTimeFopdtHotendsSkipTheRelayAndKeepTheirModel) {
   std::vector<Plant> ps;
   for (const Plant& p : plants())
-    if (p.name == "seed002" || p.name == "seed004") ps.push_back(p);
+    if (in({"seed002", "seed004"}, p.name)) ps.push_back(p);
   ps.push_back(fopdt_plant("fopdt-30-25", 450, 30, 25));
   ps.push_back(fopdt_plant("fopdt-700-35-14", 700, 35, 14));
   for (const Plant& p : ps) {
@@ -515,9 +513,7 @@ TEST(AutotuneSettledHold, DeadTimeFopdtHotendsSkipTheRelayAndKeepTheirModel) {
 // user who asks for more effort (C6 on seed002).
 TEST(AutotuneSettledHold, TheRelayStaysWhereItTellsMore) {
   for (const Plant& p : plants()) {
-    if (p.name != "fopdt-120-25" && p.name != "hotend40w" && p.name != "seed003" && p.name != "two-node-delay5" &&
-        p.name != "fopdt-60-3" && p.name != "seed002")
-      continue;
+    if (!in({"fopdt-120-25", "hotend40w", "seed003", "two-node-delay5", "fopdt-60-3", "seed002"}, p.name)) continue;
     const uint8_t cycles = p.name == "seed002" ? 6 : 5;
     const TuneRun r = run(p, cycles, true, 0.1, false, 1.0, -1, false, 1800);
     ASSERT_EQ(r.state, AutotuneState::kFinished) << p.name;

@@ -636,7 +636,22 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
       inv_t = (num + den / 2) / den;
     }
     inv_t_q16_ = static_cast<uint16_t>(inv_t > 16384 ? 16384 : inv_t);
-    return 4;
+    // A cold pulse whose flat peak fell by over 1/16 of its height in the window (T under ~4 × the
+    // cut-to-peak time: a dead-time hotend, whose heat-up runs open loop within its dead time)
+    // also reads its tail, over the fourth window after the peak (bin logic above; compute:
+    // decay_step). A thermistor lag τ2 behind the block rounds the peak (an FOPDT's is sharp) and
+    // slows the early decay, and every C the tune reads takes it for a longer block (≈ τ1 +
+    // 2.4 τ2, docs/autotune.md); by then the block's own e^(−t/τ1) is nearly all that is left
+    // (24/6/16 s τ1/τ2/D, σ 0.1 °C: 25.3–25.6 s; the third window read 27.2–28.5, the first
+    // ~33). Costs three windows (15–20 s). Not where the response showed within 8 bins of the
+    // pulse (a dead time that short is no open-loop heat-up; fopdt-60-3's noise passed the 1/16
+    // at σ 0.3 °C, and its relay then read D 16 % long), nor on a drop within the noise (no loss
+    // read above: fopdt-slow's).
+    if (sharp || hot_start_ || p.retries != 0 || untrusted_ || inv_t == 0 || p.det_bin < 8 ||
+        drop < p.dev_peak_q8 >> 4) {
+      return 4;
+    }
+    return 0;
   }
   if (stage == 4) {
     // The pulse's peak height above a steady baseline. A sharp peak (fast FOPDT) is the highest
@@ -786,11 +801,23 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     }
     return 0;
   }
-  // Decay after the peak for a quarter of the cut-to-peak time (≥ 3 bins): the loss rate 1/T.
-  const int32_t peak_tick = static_cast<int32_t>(p.peak_bin) * kTicksPerBin - kTicksPerBin / 2;
-  const int32_t quarter = (peak_tick - static_cast<int32_t>(p.off_tick)) >> 5;  // ÷ (4·kTicksPerBin)
-  if (k - p.peak_bin < (quarter < 3 ? 3 : quarter) + (sharp_peak() ? 1 : 0)) return 0;
-  return 3;
+  // Decay after the peak for a quarter of the cut-to-peak time (≥ 3 bins): the loss rate 1/T
+  // (stage 3). The cut path has no lag fit: its three figures hold that window (bins) and the
+  // tail's two rises (stage 3 asks for them), no RAM of their own.
+  const uint16_t since = static_cast<uint16_t>(k - p.peak_bin);
+  const uint16_t window = static_cast<uint16_t>(p.fit_p_q6);  // < 2^12 bins (the peak within 90 s)
+  if (window == 0) {
+    const int32_t peak_tick = static_cast<int32_t>(p.peak_bin) * kTicksPerBin - kTicksPerBin / 2;
+    const int32_t quarter = (peak_tick - static_cast<int32_t>(p.off_tick)) >> 5;  // ÷ (4·kTicksPerBin)
+    if (static_cast<int32_t>(since) < (quarter < 3 ? 3 : quarter) + (sharp_peak() ? 1 : 0)) return 0;
+    p.fit_p_q6 = since;
+    return 3;
+  }
+  // The tail: two bins' sums, one window apart (their centres 3w − ½ and 4w − ½ bins after the peak).
+  const uint16_t end_a = static_cast<uint16_t>(3 * window), end_b = static_cast<uint16_t>(end_a + window);
+  if (since + 1 == end_a || since == end_a) p.fit_q_q8 = (since == end_a ? p.fit_q_q8 : 0) + p.dev_q8;
+  if (since + 1 == end_b || since == end_b) p.fit_r_q8 = (since == end_b ? p.fit_r_q8 : 0) + p.dev_q8;
+  return since < end_b ? 0 : 4;
 }
 
 // The heat-up's samples for the lag fit: at bin centres 2, 4, 8, 16, … the last two (no division).
@@ -1713,10 +1740,10 @@ void Autotune::fan_stage() {
 void Autotune::enter_compute() {
   fan_ = 0;
   duty_q16_ = 0;
-  // A hot start's decay (decay_step) first; not where the response outlasted the model history
-  // (seed000's higher-order hotends: no first-order decay or lag to read; their figures stay 0
-  // from start(), as a cold start's).
-  compute_step_ = hot_start_ && !long_response() ? 0 : kCoolDecaySteps;
+  // A hot start's decay (or a cold probe's tail) first (decay_step); not where the response
+  // outlasted the model history (seed000's higher-order hotends: no first-order decay or lag to
+  // read; their figures stay 0 from start()).
+  compute_step_ = (hot_start_ || probe_tail()) && !long_response() ? 0 : kCoolDecaySteps;
   enter(Phase::kCompute);
 }
 
@@ -1728,23 +1755,35 @@ void Autotune::enter_compute() {
 // hold), and F 15–18 % low with it. K < 2^19 and relay T < 2^23: each mul_q16 fits.
 __attribute__((noinline)) int32_t Autotune::fan_slope_q8(int32_t k_q8, int32_t relay_t_q8) const {
   const uint16_t rate_q16 = static_cast<uint16_t>(store_.c.decay_q24 >> 8);
-  if (rate_q16 == 0 || relay_t_q8 <= 0 || 3 * fixed::mul_q16(relay_t_q8, rate_q16) > 4 * seconds_q8(kTicksPerBin)) {
-    return slope_q8_;
-  }
-  return fixed::mul_q16(k_q8, rate_q16);
+  if (rate_q16 == 0) return slope_q8_;
+  const int32_t s = fixed::mul_q16(k_q8, rate_q16);  // K/T per bin (K < 2^19)
+  // A cold probe's tail: K/τ1 where over 1/16 above the probe's S, which a lag blunts (its peak).
+  if (!hot_start_) return s - slope_q8_ > slope_q8_ >> 4 ? s : slope_q8_;
+  if (relay_t_q8 <= 0 || 3 * fixed::mul_q16(relay_t_q8, rate_q16) > 4 * seconds_q8(kTicksPerBin)) return slope_q8_;
+  return s;
 }
 
-// The compute's first steps (hot starts only): the first cool-down (CoolDecay) as 1/T per bin
-// (Q24) and T (s × 256), both 0 where there is none. An FOPDT's state is first order: once the
+// The compute's first steps (hot starts, and cold ones whose cut probe read its tail): the first
+// cool-down (CoolDecay; cold: the tail) as 1/T per bin (Q24) and T (s × 256), both 0 where there
+// is none. An FOPDT's state is first order: once the
 // heater has been off for a dead time, the reading decays as e^(−t/T) whatever heated it before
 // (a steady hold, or M109's heat still in flight), and ln(rise_a/rise_b) over the span in bins is
 // its 1/T. The whole span (3–10 bins on the bank) matters: the baseline's 2-bin slope read
 // fopdt-120-25's T 1.6–3.7 % long at σ 0.1 °C, and its model-following heat-up overshoots
-// ~1.4 °C per 1 %. One logarithm or division per step: ln < 2^20 (rise_a < 2^17),
+// ~1.4 °C per 1 %. One logarithm or division per step: ln < 2^20 (rise_a < 2^18),
 // × 2^8 < 2^28; s per bin (q8) < 2^9, × 2^8 × 2^16 (div_q16 normalises) ÷ 1/T.
 void Autotune::decay_step(uint8_t s) {
   Compute& v = near(store_.c);
-  const CoolDecay& d = fd_.decay;
+  // A cold cut probe's tail instead (probe_stage: two bins' rises above its baseline, summed, one
+  // window apart; each sum < 2^18). Only a tail that fell by over 1/8: its ln is then within ~1 %
+  // at σ 0.1 °C on a 40 °C pulse.
+  const Probe& p = probe_;
+  CoolDecay d = fd_.decay;
+  if (!hot_start_) {
+    d.rise_a_q8 = p.fit_q_q8;
+    d.rise_b_q8 = p.fit_r_q8;
+    d.bins = static_cast<uint16_t>(probe_tail() && p.fit_q_q8 - p.fit_r_q8 > p.fit_q_q8 >> 3 ? p.fit_p_q6 : 0);
+  }
   if (s == 0) {
     v.t_decay_q8 = 0;  // here: the span's ln, Q16
     v.decay_q24 = 0;
@@ -2139,6 +2178,11 @@ bool Autotune::compute_chunk() {
       return false;
     }
     case 7:
+      // A cold cut probe's tail (decay_step) over 1/16 faster than the C chosen above: the block's
+      // own τ1, which a thermistor lag behind it hid from every other estimate. The heat-up runs
+      // open loop within a dead time on the C it is given: 24/2/20 s (τ1/τ2/D) with C 28.7
+      // overshot 20.9 °C after U1, with τ1 0.24 °C (docs/autotune.md).
+      if (!hot_start_ && v.t_decay_q8 > 0 && m.time_constant_q8 - v.t_decay_q8 > v.t_decay_q8 >> 4) m.time_constant_q8 = v.t_decay_q8;
       if (v.log > 0) {
         result_.sensor_lag_q8 = m.dead_time_q8;
         m.dead_time_q8 = two_point_dead_time(m.dead_time_q8, v.log);

@@ -14,7 +14,8 @@
 //             target, then either (lag-type hotend: response seen and steepening) heat on until
 //             the slope is steady — S and the tangent's dead time — or heater off until the
 //             response peaks and decays: S, the cut-to-peak time L̂ (the FOPDT's dead time) and
-//             the loss rate 1/T
+//             the loss rate 1/T; a cold flat peak that decays fast (a dead time with a thermistor
+//             lag) also waits for its tail, where the block's own τ1 is left (compute: C)
 //   approach  Smith predictor (FOPDT model S, L̂, 1/T, anchored to the reading) with a P law
 //             around the model's steady duty; 1/T learnt on line (slope decline at full power,
 //             model-vs-reading slope when the duty is steady); then the fan part starts here too.
@@ -50,7 +51,8 @@
 //             formulas, the reading noise's lift first taken off each cycle's extremes and
 //             switch levels (lag-type hotends: T = τ1 + τ2 − the tangent's dead time, τ1 + τ2 from
 //             a fit of K·t − ∫y = Σ·y + Π·ẏ at two heat-up points (else the heat-up slope), L from the relay amplitude;
-//             a cold cut probe: T = p/ln(K/(K − peak)) from its pulse where it agrees within 20 %);
+//             a cold cut probe: T = p/ln(K/(K − peak)) from its pulse where it agrees within 20 %,
+//             its tail's T where over 1/16 shorter than that, which also gives the fan step's S);
 //             F = K·ū_F/rise − 1 from the fan step; K corrected for the relay's drift
 //             (K·ū = rise + T·ẏ). A hot start: T from the first cool-down's decay where the
 //             relay's T is within 4/3 of it (then also S = K/T for F), else the loss's T (never
@@ -371,6 +373,8 @@ class Autotune {
   bool probe_again_ = false;
   uint16_t hold_gain_q4_ = 0;  // start()'s hold_gain_q8 in °C × 16 (0: none; 2 B of RAM)
   bool held_start() const { return hot_start_ && hold_gain_q4_ != 0; }  // a hot start after a hold
+  // A cold cut probe read its tail (probe_stage; its rises in the lag fit's unused figures).
+  bool probe_tail() const { return !hot_start_ && !probe_.continuous && probe_.fit_r_q8 > 0; }
   int32_t fan_slope_q8(int32_t k_q8, int32_t relay_t_q8) const;
   void relay_lag_stage(uint8_t s);
   void note_decay();

@@ -290,6 +290,36 @@ TEST(AutotuneAfterU1, LaggingHotendsGetTheTwoLagDesignAndSettleWithinTheTargets)
   }
 }
 
+// A dead time with a thermistor lag τ2 behind the block (off the bank: two lags and a dead time,
+// design::second_order(450, τ1, τ2, D) with the seed fan). The cut probe's peak is flat, and every
+// C the tune read took the lag for a longer block (≈ τ1 + 2.4 τ2): 24/2/20 s read C 28.7 and F
+// 49.9 %, and after U1 overshot 20.9 °C with a 7.6 °C fan dip; 24/6/16 s C 36.4, 40.3 °C. The
+// heat-up runs open loop within the dead time on that C. The probe now reads its tail, where the
+// block's own e^(−t/τ1) is left (Autotune::decay_step), and takes it for C and for the fan step's
+// S. Measured (σ 0.1 °C, these realisations): 24/1/20 and 24/2/20 C 23.7–24.2, F 42.4–43.2,
+// overshoot ≤ 0.39 °C, dip ≤ 0.52 °C; 24/6/16 C 25.3–25.5, 3.1–3.6 °C (the lag still shows).
+TEST(AutotuneAfterU1, DeadTimeBehindALagTakesTheBlocksTimeConstantFromTheProbesTail) {
+  struct Case {
+    double t1, t2, dead;
+    double c_tol, overshoot_max_c;
+  };
+  for (const Case& c : {Case{24, 1, 20, 0.03, 1.0}, Case{24, 2, 20, 0.03, 1.0}, Case{24, 6, 16, 0.08, 5.0}}) {
+    after_u1::Plant p{"lag+dead", design::with_seed_fan(design::second_order(450, c.t1, c.t2, c.dead)), 210, 400, 700, 1};
+    for (unsigned long long seed : {12345ULL, 1ULL, 2ULL}) {
+      control::AutotuneResult r{};
+      const Figures f = after_u1::after_u1(p, seed, 0.1, &r);
+      const double c_s = r.model.time_constant_q8 / 256.0, f_pct = r.model.fan_loss_pct_q8 / 256.0;
+      std::printf("%.0f/%.0f/%.0f s seed %llu: C %.2f D %.2f F %.1f | overshoot %.2f °C, settling %.0f s, dip %.2f °C\n", c.t1,
+                  c.t2, c.dead, seed, c_s, r.model.dead_time_q8 / 256.0, f_pct, f.overshoot_c, f.settling_s, f.dip_c);
+      EXPECT_NEAR(c_s, c.t1, c.c_tol * c.t1) << c.t2 << " seed " << seed;
+      EXPECT_NEAR(f_pct, 42.6, 0.05 * 42.6) << c.t2 << " seed " << seed;
+      EXPECT_TRUE(f.ok) << c.t2 << " seed " << seed;
+      EXPECT_LE(f.overshoot_c, c.overshoot_max_c) << c.t2 << " seed " << seed;
+      EXPECT_LE(f.dip_c, 1.5) << c.t2 << " seed " << seed;
+    }
+  }
+}
+
 // A table (as Autotune.Table), whose check is the baseline it sweeps from: the tune finished and
 // the board designed from it. Per noise seed the tuned model and the figures of
 // the one-state state feedback (paced or not) and of the PID following the model, with the

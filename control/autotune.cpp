@@ -636,21 +636,24 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
       inv_t = (num + den / 2) / den;
     }
     inv_t_q16_ = static_cast<uint16_t>(inv_t > 16384 ? 16384 : inv_t);
-    // A cold pulse whose flat peak fell by over 1/16 of its height in the window (T under ~4 × the
-    // cut-to-peak time: a dead-time hotend, whose heat-up runs open loop within its dead time)
-    // also reads its tail, over the fourth window after the peak (bin logic above; compute:
+    // A cold pulse whose flat peak fell by 1/16 of its height or more in the window (T under ~4 ×
+    // the cut-to-peak time: a dead-time hotend, whose heat-up runs open loop within its dead time)
+    // also reads its tail, over the fourth window after the peak (the bin logic below; compute:
     // decay_step). A thermistor lag τ2 behind the block rounds the peak (an FOPDT's is sharp) and
     // slows the early decay, and every C the tune reads takes it for a longer block (≈ τ1 +
     // 2.4 τ2, docs/autotune.md); by then the block's own e^(−t/τ1) is nearly all that is left
-    // (24/6/16 s τ1/τ2/D, σ 0.1 °C: 25.3–25.6 s; the third window read 27.2–28.5, the first
+    // (24/6/16 s τ1/τ2/D, σ 0.1 °C: 25.3–25.6 s; the third window read 27.2–28.5, the second
     // ~33). Costs three windows (15–20 s). Not where the response showed within 8 bins of the
     // pulse (a dead time that short is no open-loop heat-up; fopdt-60-3's noise passed the 1/16
     // at σ 0.3 °C, and its relay then read D 16 % long), nor on a drop within the noise (no loss
-    // read above: fopdt-slow's).
+    // read above: fopdt-slow's), nor where the cut-to-peak time outlasts the model history
+    // (long_response(): the compute would not read it, after minutes of waiting).
+    const uint16_t window = static_cast<uint16_t>(k - p.peak_bin);
     if (sharp || hot_start_ || p.retries != 0 || untrusted_ || inv_t == 0 || p.det_bin < 8 ||
-        drop < p.dev_peak_q8 >> 4) {
+        drop < p.dev_peak_q8 >> 4 || 4 * window + 1 > kRingBins - 2) {
       return 4;
     }
+    p.fit_p_q6 = window;  // the tail's wait and span (bin logic below)
     return 0;
   }
   if (stage == 4) {
@@ -802,16 +805,14 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     return 0;
   }
   // Decay after the peak for a quarter of the cut-to-peak time (≥ 3 bins): the loss rate 1/T
-  // (stage 3). The cut path has no lag fit: its three figures hold that window (bins) and the
-  // tail's two rises (stage 3 asks for them), no RAM of their own.
+  // (stage 3). The cut path has no lag fit: its three figures hold the window (bins) where stage 3
+  // asked for the tail (else 0), and the tail's two rises, no RAM of their own.
   const uint16_t since = static_cast<uint16_t>(k - p.peak_bin);
-  const uint16_t window = static_cast<uint16_t>(p.fit_p_q6);  // < 2^12 bins (the peak within 90 s)
+  const uint16_t window = static_cast<uint16_t>(p.fit_p_q6);  // < 18 bins (stage 3: 4w + 1 < 70)
   if (window == 0) {
     const int32_t peak_tick = static_cast<int32_t>(p.peak_bin) * kTicksPerBin - kTicksPerBin / 2;
     const int32_t quarter = (peak_tick - static_cast<int32_t>(p.off_tick)) >> 5;  // ÷ (4·kTicksPerBin)
-    if (static_cast<int32_t>(since) < (quarter < 3 ? 3 : quarter) + (sharp_peak() ? 1 : 0)) return 0;
-    p.fit_p_q6 = since;
-    return 3;
+    return static_cast<int32_t>(since) < (quarter < 3 ? 3 : quarter) + (sharp_peak() ? 1 : 0) ? 0 : 3;
   }
   // The tail: two bins' sums, one window apart (their centres 3w − ½ and 4w − ½ bins after the peak).
   const uint16_t end_a = static_cast<uint16_t>(3 * window), end_b = static_cast<uint16_t>(end_a + window);
@@ -1775,14 +1776,17 @@ __attribute__((noinline)) int32_t Autotune::fan_slope_q8(int32_t k_q8, int32_t r
 void Autotune::decay_step(uint8_t s) {
   Compute& v = near(store_.c);
   // A cold cut probe's tail instead (probe_stage: two bins' rises above its baseline, summed, one
-  // window apart; each sum < 2^18). Only a tail that fell by over 1/8: its ln is then within ~1 %
-  // at σ 0.1 °C on a 40 °C pulse.
+  // window apart; each sum < 2^18). Only a tail that fell by over 1/8 (its ln is then within ~1 %
+  // at σ 0.1 °C on a 40 °C pulse) and still stood at over a quarter of the peak (not noise on a
+  // pulse that has gone; then a/b < 4, a sum being at most two peaks, and 1/T per bin < ln 4 / 3
+  // bins < ½: rate_q16 in fan_slope_q8 < 2^15).
   const Probe& p = probe_;
   CoolDecay d = fd_.decay;
   if (!hot_start_) {
     d.rise_a_q8 = p.fit_q_q8;
     d.rise_b_q8 = p.fit_r_q8;
-    d.bins = static_cast<uint16_t>(probe_tail() && p.fit_q_q8 - p.fit_r_q8 > p.fit_q_q8 >> 3 ? p.fit_p_q6 : 0);
+    const bool fell = p.fit_q_q8 - p.fit_r_q8 > p.fit_q_q8 >> 3 && p.fit_r_q8 > p.dev_peak_q8 >> 1;
+    d.bins = static_cast<uint16_t>(probe_tail() && fell ? p.fit_p_q6 : 0);
   }
   if (s == 0) {
     v.t_decay_q8 = 0;  // here: the span's ln, Q16
@@ -2178,11 +2182,14 @@ bool Autotune::compute_chunk() {
       return false;
     }
     case 7:
-      // A cold cut probe's tail (decay_step) over 1/16 faster than the C chosen above: the block's
-      // own τ1, which a thermistor lag behind it hid from every other estimate. The heat-up runs
-      // open loop within a dead time on the C it is given: 24/2/20 s (τ1/τ2/D) with C 28.7
-      // overshot 20.9 °C after U1, with τ1 0.24 °C (docs/autotune.md).
-      if (!hot_start_ && v.t_decay_q8 > 0 && m.time_constant_q8 - v.t_decay_q8 > v.t_decay_q8 >> 4) m.time_constant_q8 = v.t_decay_q8;
+      // A cold cut probe's tail (decay_step) over 1/16 faster than the C chosen above (relay, probe
+      // or K/S): the block's own τ1, which a thermistor lag behind it hid from every other
+      // estimate. The heat-up runs open loop within a dead time on the C it is given: 24/2/20 s
+      // (τ1/τ2/D) with C 28.7 overshot 20.9 °C after U1, with τ1 0.24 °C (docs/autotune.md). Not
+      // under C/2 (the lags seen read C at most ~1.5 τ1): no tail would explain more.
+      if (!hot_start_ && v.t_decay_q8 > m.time_constant_q8 >> 1 && m.time_constant_q8 - v.t_decay_q8 > v.t_decay_q8 >> 4) {
+        m.time_constant_q8 = v.t_decay_q8;
+      }
       if (v.log > 0) {
         result_.sensor_lag_q8 = m.dead_time_q8;
         m.dead_time_q8 = two_point_dead_time(m.dead_time_q8, v.log);

@@ -52,7 +52,8 @@
 //             switch levels (lag-type hotends: T = τ1 + τ2 − the tangent's dead time, τ1 + τ2 from
 //             a fit of K·t − ∫y = Σ·y + Π·ẏ at two heat-up points (else the heat-up slope), L from the relay amplitude;
 //             a cold cut probe: T = p/ln(K/(K − peak)) from its pulse where it agrees within 20 %,
-//             its tail's T where over 1/16 shorter than that, which also gives the fan step's S);
+//             and its tail's T where over 1/16 shorter than the C chosen, the tail's K/T the fan
+//             step's S where over 1/16 steeper than the probe's);
 //             F = K·ū_F/rise − 1 from the fan step; K corrected for the relay's drift
 //             (K·ū = rise + T·ẏ). A hot start: T from the first cool-down's decay where the
 //             relay's T is within 4/3 of it (then also S = K/T for F), else the loss's T (never
@@ -352,7 +353,8 @@ class Autotune {
     int32_t slope_rise_q8;   // rise at the centre of the steepest heat-up window (cut probe: its smoothed peak)
     int32_t area_q8;         // Σ dev over bins 1..k−2 at full power (°C × 256 × bins): the heat-up's integral
     // The tangent path's lag fit (lag_fit_stage): Σ = τ1 + τ2 = (K·p − q)/r once K is known;
-    // r = 0: none.
+    // r = 0: none. A cut probe's tail instead (probe_stage): the window (bins, 0: no tail) and
+    // two 2-bin sums of the rise (°C × 256), at 3 and 4 windows after the peak.
     int32_t fit_p_q6;        // bins × 64
     int32_t fit_q_q8;        // °C × 256 × bins
     int32_t fit_r_q8;        // °C × 256
@@ -476,7 +478,8 @@ class Autotune {
     int32_t t_sum_q8, l_sum_q8;
     int32_t sigma_q6;  // τ1 + τ2 from the heat-up's lag fit, bins × 64 (0: none)
     uint8_t tl_count;
-    // A hot start's first cool-down (decay_step): 1/T per bin, Q24, and T, s × 256 (0: none).
+    // A hot start's first cool-down, or a cold cut probe's tail (decay_step): 1/T per bin, Q24,
+    // and T, s × 256 (0: none).
     // (Within the fit's share of the union: no RAM of their own.)
     int32_t decay_q24, t_decay_q8;
   };

@@ -53,9 +53,9 @@ std::vector<PlantSpec> make_bank() {
   bank.push_back({"fopdt-fast", "FOPDT T 30 s, dead time 1 s (450 K)", with_seed_fan(fopdt(kSeedRiseK, 30.0, 1.0))});
   bank.push_back({"fopdt-slow", "FOPDT T 300 s, dead time 10 s (450 K)", with_seed_fan(fopdt(kSeedRiseK, 300.0, 10.0))});
   bank.push_back({"fopdt-delay25", "FOPDT T 120 s, dead time 25 s (450 K)", with_seed_fan(fopdt(kSeedRiseK, 120.0, 25.0))});
-  // seed002's dead time with a thermistor lag behind the block: its M303 used to take the lag for
-  // a longer block (C +19 %) and overshoot ~20 °C after U1 (docs/autotune.md, "A dead time behind
-  // a thermistor lag").
+  // seed002 with a 2 s thermistor lag behind the block, its dead time shortened to 18.7 s so that
+  // dead time + lag is seed002's 20.7 s: its M303 used to take the lag for a longer block (C
+  // +19 %) and overshoot ~20 °C after U1 (docs/autotune.md, "A dead time behind a thermistor lag").
   bank.push_back({"seed002-lag2", "seed002 with a 2 s thermistor lag: T 24 s, lag 2 s, dead time 18.7 s (450 K)",
                   with_seed_fan(second_order(kSeedRiseK, 24.0, 2.0, 18.7))});
   return bank;

@@ -1385,6 +1385,8 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
 // duty ≤ 255 per bin, ≤ 255 bins: both sums < 2^16. In the relay's per-cycle figures, which the
 // relay sets before it first reads them (relay_tick): cyc_min_q8_ the Σ (y − target),
 // cyc_max_q8_ the Σ duty, cyc_sum_dev_ the first half's (the first two within one LDD's reach).
+uint8_t Autotune::hold_half_bins(const Approach& ap) { return static_cast<uint8_t>((ap.bins + 2) / 2); }
+
 void Autotune::settled_window() {
   const Approach& ap = near(appr_);
   if (ap.settled_bins == 0) {
@@ -1396,7 +1398,7 @@ void Autotune::settled_window() {
   const int32_t shift = (horizon_ticks_ + kTicksPerBin / 2) >> 3;
   cyc_min_q8_ += y_bin_q8_ - target_q8_;
   cyc_max_q8_ += duty_ago(static_cast<uint8_t>(shift < horizon_bins_ ? shift : horizon_bins_));
-  if (ap.settled_bins == (ap.bins + 2) / 2) cyc_sum_dev_ = cyc_min_q8_;
+  if (ap.settled_bins == hold_half_bins(ap)) cyc_sum_dev_ = cyc_min_q8_;
 }
 
 // On a dead-time-dominated FOPDT hotend (L̂ + 2 bins ≥ C/3) each relay cycle lasts ≥ 4 L̂ (seed002: 70 s),
@@ -1415,7 +1417,7 @@ __attribute__((noinline)) bool Autotune::settled_hold() {
     return false;
   }
   const uint16_t ticks = uint16_t{ap.settled_bins} * kTicksPerBin;
-  first_ticks_ = static_cast<uint16_t>(((ap.bins + 2) / 2) * kTicksPerBin);
+  first_ticks_ = static_cast<uint16_t>(hold_half_bins(ap) * kTicksPerBin);
   last_ticks_ = static_cast<uint16_t>(ticks - first_ticks_);
   sum_ticks_[0] = ticks;
   sum_dev_[0] = cyc_min_q8_ * kTicksPerBin;

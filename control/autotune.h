@@ -426,6 +426,9 @@ class Autotune {
     uint16_t lag_q4;         // a continuous probe's measured lag where it is over 1.5 × L̂ (bins × 16), else 0
   };
   Approach appr_ = {};
+  // The settled window's first half in bins (L̂ + 2 bins in all): where settled_window snapshots
+  // its drift sum and settled_hold splits the window's ticks; the two must agree.
+  static uint8_t hold_half_bins(const Approach& ap);
   int32_t model_q8_ = 0;        // Smith predictor model state (undelayed rise)
   bool guard_off_ = false;      // relay: heater off while the trend would carry the reading too high
   bool bias_unknown_ = false;   // relay: the bias said nothing of the steady duty (set_levels) until the next nudge

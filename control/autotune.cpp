@@ -284,8 +284,11 @@ __attribute__((noinline)) int32_t Autotune::model_ago(uint8_t bins) const { retu
 // Entries differ by < 2^20 (±2,000 °C), × frac < 2^8.
 int32_t Autotune::model_delayed() const {
   // (The slow law, tuned on the whole-bin horizon, keeps it: its plants' peaks are flat or
-  // their models unsure, and the bin is their timing's resolution anyway.)
-  if (appr_.landed >= 2) return model_ago(horizon_bins_);
+  // their models unsure, and the bin is their timing's resolution anyway. Not after a
+  // tangent-timed flat probe's deadbeat, landed 4: there the whole bin, 1.1 bins longer than
+  // fopdt-delay25's D + ½ tick, pulled the anchored model 2 °C above the reading as it landed,
+  // and the slow law held the duty under ū until the reading dipped 1.4 °C.)
+  if (appr_.landed == 2 || appr_.landed == 3) return model_ago(horizon_bins_);
   const uint32_t j_q8 = static_cast<uint32_t>(horizon_ticks_ + kAlignTicks) << 5;  // ÷ 8 bins, × 256
   uint8_t whole = static_cast<uint8_t>(j_q8 >> 8);
   if (whole > kRingBins - 2) whole = kRingBins - 2;
@@ -694,6 +697,26 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     // The peak height (stage 4) for compute's C; 0 when the baseline was not steady (hot start:
     // decaying; a retry: the earlier pulses' tails).
     if (hot_start_ || p.retries != 0) probe_max_q8_ = 0;
+    // A flat peak is timed to its highest bin, which the noise picks anywhere on the plateau: an
+    // FOPDT of C 300 s read L̂ 12.3 s for 10, the deadbeat landed 1.2–3 °C short and crept to the
+    // relay for 40 s. Where the response's rise is the pulse's own ramp (its peak within 9/8 of
+    // the steepest slope × the pulse: no lag spreads it; FOPDT hotends read 0.99–1.07 at σ
+    // 0.02–0.3 °C, seed002 behind a 2 s thermistor lag 1.17, the bank's lag hotends 1.9–6),
+    // the tangent at the steepest point meets the baseline at the pulse's start + D (fopdt-slow:
+    // 10.0 s, fopdt-60-3 2.9 s for 3, fopdt-delay25 25.0 s for 25). The slope is > 0 on a cut
+    // probe's peak; the height is 0 after a hot start or a retry (no tangent). Readings < 2^17
+    // (Q8): 8 × peak < 2^20, the slope < 2^16, a cold pulse's on ticks < 2^13 (≤ 40 s past its
+    // cap at ≥ 10 ms periods): slope × on × 9/8 < 2^30; dev·8 < 2^20.
+    const uint32_t ramp = static_cast<uint32_t>(p.slope_max_q8) * p.on_ticks;
+    if (p.max_tick == 0 && p.slope_max_q8 > 0 && probe_max_q8_ > 0 &&
+        8u * static_cast<uint32_t>(probe_max_q8_) <= ramp + (ramp >> 3)) {
+      const int32_t tangent = p.max_centre_tick - p.slope_max_dev_q8 * kTicksPerBin / p.slope_max_q8 -
+                              static_cast<int32_t>(p.off_tick - p.on_ticks);
+      if (tangent > 0 && tangent < horizon_ticks_) {
+        horizon_ticks_ = tangent;
+        p.peak_bin = 0;  // tangent_timed(); a cut probe's peak bin is ≥ 1, and nothing reads it after here
+      }
+    }
     return 20;
   }
   // The baseline the hotend would follow without the probe (decaying when hot).
@@ -1254,6 +1277,12 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       return relearn_slope(s_full > 32767u ? 32767 : static_cast<int32_t>(s_full));
     }
     case 9: {
+      // The probe showed no loss, so its S went without the pulse's own loss (probe stage 5):
+      // the peak is S·T·(1 − e^(−x)), x = on/T, ≈ S·on·(1 − x/2). Now that 1/T is known, S·(1 +
+      // x/2): fopdt-delay25's S read 1.7 % low, and the deadbeat, on an exact L̂, landed 1 °C
+      // over. x/2 < 2^15 (clamped: on < 2^13 ticks, 1/T ≤ 2^14), S < 2^15: the product < 2^31.
+      const uint32_t x = (uint32_t{near(probe_).on_ticks} * inv_t_q16_) >> 4;
+      slope_q8_ += fixed::mul_q16(slope_q8_, static_cast<uint16_t>(x > 32767 ? 32767 : x));
       // At full power over the whole history (case 4 learns only after hb + 4 such bins):
       // x(now) = rise·p + S·(1 − p)·T, p = (1 − 1/T)^hb. S < 2^15 × (1 − p) < 2^16 < 2^31; the
       // quotient clamped as the model is (±30,000 °C·16).
@@ -1300,7 +1329,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       int32_t gain = ap.gain_q8;
       // Landed: twice the slow law's gain (τ ≈ 0.6 L̂; the aligned predictor holds it on a
       // trusted FOPDT-like model) takes the last few °C in ~L̂ instead of 2–3 L̂.
-      if (ap.landed == 1) gain = gain > 20000 ? 40000 : 2 * gain;
+      if (ap.landed == 1 || ap.landed == 4) gain = gain > 20000 ? 40000 : 2 * gain;
       if (ap.landed == 0) {
         // A trusted cut probe's first approach: deadbeat on the model (gain 1/S: full power until
         // the undelayed prediction is within a bin's heat of the target, that bin's exact duty),
@@ -1314,7 +1343,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       }
       ex = fixed::clamp(ex, -200 * kQ8, 200 * kQ8);  // again after the deadbeat's heat in flight
       const int32_t u = ap.steady_q16 + ((ex * gain) >> 8);  // |ex·gain| ≤ 51,200 · 40,000 < 2^31
-      if (u < kFull && ap.landed == 0) ap.landed = probe_.max_tick != 0 ? 1 : 3;
+      if (u < kFull && ap.landed == 0) ap.landed = probe_.max_tick != 0 ? 1 : (tangent_timed() ? 4 : 3);
       duty_q16_ = clamp_duty(u);
       ap.duty_avg_q16 += div2n(static_cast<int32_t>(duty_q16_) - ap.duty_avg_q16, 2);
       // Above the target with the trend carrying it past S + 2 °C: heater off, as in the relay.
@@ -1328,7 +1357,13 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // drifted to S + 3.4 °C (seed003, σ 0.04). A loss never learnt (held with the heater off)
       // has nothing to wait for.
       const bool learning = ap.near_only && ap.unlearnt && inv_t_q16_ != 0;
-      ap.settled_bins = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? 4 * kSettleBandQ8 : kSettleBandQ8) && !learning
+      // After a tangent-timed flat probe's landing (law 4) the window takes ±1 °C once the reading
+      // has kept within 2 °C for L̂ + 2 bins: a 1.5 % error in the 1/T learnt at full power parks
+      // the predictor's reading up to 0.9 °C off (fopdt-delay25, σ 0.1 °C), and the approach then
+      // left by its stall rule with a settling relay cycle (+100 s). Not from the landing on: a
+      // fast hotend (K 900, C 200, D 3) was still swinging, and its relay read D +17 %.
+      const bool tangent_landed = ap.landed == 4 && ap.near_bins > ap.bins + 2;
+      ap.settled_bins = abs32(target_q8_ - y_bin_q8_) < (untrusted_ ? 4 * kSettleBandQ8 : (tangent_landed ? 2 * kSettleBandQ8 : kSettleBandQ8)) && !learning
                           ? static_cast<uint8_t>(ap.settled_bins + 1)
                           : 0;
       settled_window();
@@ -1366,7 +1401,7 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // of C 300 s, D 35 s settled from S + 2.4 °C, still drifting: D +35 %). Otherwise a settling
       // cycle first (an approach that left by its crossings or its stall).
       const bool settled = ap.settled_bins >= ap.bins + 2;
-      settling_cycles_ = settled && !untrusted_ && (ap.landed == 1 || (ap.landed == 3 && !ap.lag_probe && !ap.overshot) || probe_.continuous) ? 0 : kSettlingCycles;
+      settling_cycles_ = settled && !untrusted_ && (ap.landed == 1 || (ap.landed >= 3 && !ap.lag_probe && !ap.overshot) || probe_.continuous) ? 0 : kSettlingCycles;
       relay_hi_ = settling_cycles_ != 0 && y_bin_q8_ < target_q8_;
       stall_ref_q8_ = y_bin_q8_;  // the first half's stall test measures progress from here
       half_ticks_ = 0;
@@ -1545,13 +1580,16 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
   // mean at σ 0.5): no noise crossing, the level is off (seed004 realisation 8 at σ 0.5, both
   // levels above the steady duty: S + 6.44 °C with halves of L̂, 5.33 with this exception).
   // Neither input changes during the relay (noise_q8_ stops at the probe's response, 1/T at the
-  // approach's end). L̂ ≤ 254 bins, 1/T < 2^16: the product < 2^24.
+  // approach's end). L̂ ≤ 254 bins, 1/T < 2^16: the product < 2^24. Likewise at any noise where L̂
+  // is a tangent-timed dead time (probe stage 5: the response is the pulse's own ramp, no lag):
+  // no crossing within D of a switch is the switch's (fopdt-delay25 at σ 0.3 °C, one realisation:
+  // halves of 12 s on noise crossings, D read 10 s for 25).
   const bool first_settled_half = settling_cycles_ == 0 && !started_cycle_;
   const bool noisy_dead_time = !untrusted_ && !first_settled_half && noise_q8_ > kLongHalfNoiseQ8 &&
                                uint32_t{horizon_bins_} * inv_t_q16_ >= kLongHalfLOverTQ16 &&
                                abs32(yf - target_q8_) <= kLongHalfFarQ8;
   const int32_t hl = untrusted_ ? horizon_ticks_ >> 2
-                                : (first_settled_half || noisy_dead_time ? horizon_ticks_ : horizon_ticks_ >> 1);
+                                : (first_settled_half || noisy_dead_time || tangent_timed() ? horizon_ticks_ : horizon_ticks_ >> 1);
   const int32_t min_half = hl > kTicksPerBin ? hl : kTicksPerBin;
   if (relay_hi_) {
     if (yf < cyc_min_q8_) cyc_min_q8_ = yf;

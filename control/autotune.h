@@ -191,7 +191,7 @@ class Autotune {
   uint16_t noise_q8() const { return noise_q8_; }  // reading noise σ measured so far (°C × 256)
   bool hot_start() const { return hot_start_; }  // started above ambient + 15 °C (known after 3 bins)
   bool untrusted() const { return untrusted_; }     // the probe's model is not trusted (trend guard)
-  uint8_t approach_law() const { return appr_.landed; }  // 0 deadbeat, 1 landed, 2 (3) the slow law (after a flat probe's deadbeat)
+  uint8_t approach_law() const { return appr_.landed; }  // 0 deadbeat, 1 landed, 2 (3, 4) the slow law (after a flat probe's deadbeat)
   bool lag_probe() const { return appr_.lag_probe; }
 
  private:
@@ -248,6 +248,8 @@ class Autotune {
   static uint32_t clamp_half_ticks(uint32_t ticks);
   int32_t model_ago(uint8_t bins) const;
   int32_t model_delayed() const;
+  // A flat cold cut probe whose L̂ is its ramp's tangent (probe stage 5), not the cut-to-peak time.
+  bool tangent_timed() const { return !probe_.continuous && probe_.max_tick == 0 && probe_.peak_bin == 0; }
   bool sharp_peak() const;
   int32_t slope4_q8() const;
   void push_bin(int16_t model_entry);
@@ -398,7 +400,8 @@ class Autotune {
     uint8_t settled_bins;
     uint8_t near_bins;       // bins within 2 °C of the target (a stalled approach)
     uint8_t landed;          // 0 deadbeat (trusted cut probe's first approach), 1 landed, 2 the slow law,
-                             // 3 the slow law after the deadbeat on a flat probe's model (stage 9 rebuilds it)
+                             // 3 the slow law after the deadbeat on a flat probe's model (stage 9 rebuilds it),
+                             // 4 the same on a tangent-timed flat probe's (tangent_timed(): L̂ to the tick)
     int32_t ref_rise_q8;
     int32_t ref_slope_q8;     // loss learning: rise where the slope S was measured
     uint8_t loss_estimates;   // loss learning at full power: estimates so far (averaged)

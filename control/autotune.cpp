@@ -97,6 +97,7 @@ constexpr uint16_t kFull = 65535;
 constexpr uint8_t kCycleSteps = 15;  // compute steps per stored relay cycle
 constexpr uint8_t kFanSteps = 6;     // compute steps of the gain with the fan (the first: the lag fit's Σ)
 constexpr int32_t kFanFallQ8 = 8 * kQ8;  // the fan step's window may end once the reading fell this far
+constexpr uint8_t kFanFallSigmaQ4 = 255;  // ... 16 σ of the reading (2 °C at least) after a tangent-timed probe
 constexpr int32_t kFanRiseQ8 = 2 * kQ8;  // ... and ends once the reading is this far above S
 // The fan step's held duty stays below 50 %: the firmware's model-free heating watch
 // (firmware/thermal_watch.h, kMinDutyQ16) runs only at ≥ 50 % and would read the step's
@@ -1771,8 +1772,17 @@ void Autotune::fan_stage() {
   ++sum_ticks_[1];
   // The window ends early once the reading has fallen kFanFallQ8 past its first bin (a fast
   // hotend's slope is plain by then, and the dip stays small): its span is then the bins so far.
+  // After a tangent-timed probe (an FOPDT: no lag whose transient the window must outlast;
+  // K·u = (1 + F)·rise + T·ẏ holds over any span) once it has fallen 8 σ of the reading, 2 °C at
+  // least: the fall's noise is then ≤ 1/16 of it (σ_bin = σ/√8, two bins). fopdt-slow's window
+  // took 30 bins to fall 8 °C. noise_q8_ < 2^9, × 128: < 2^16.
+  int32_t fall_end = kFanFallQ8;
+  if (tangent_timed()) {
+    const int32_t noisy = noise_floor(kFanFallQ8 / 4, kFanFallSigmaQ4);
+    if (noisy < fall_end) fall_end = noisy;
+  }
   const int32_t fall = pending_q8_ - y_bin_q8_;
-  if (!rising && bins_ < wait + fan_span_bins() && (fall < kFanFallQ8 || bins_ < wait + 4)) return;
+  if (!rising && bins_ < wait + fan_span_bins() && (fall < fall_end || bins_ < wait + 4)) return;
   fan_span_ = static_cast<uint16_t>(bins_ - wait);
   pending_q8_ = -fall;  // Δ over the span (compute)
   enter_compute();

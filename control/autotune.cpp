@@ -705,11 +705,12 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     // 0.02–0.3 °C, seed002 behind a 2 s thermistor lag 1.17, the bank's lag hotends 1.9–6),
     // the tangent at the steepest point meets the baseline at the pulse's start + D (fopdt-slow:
     // 10.0 s, fopdt-60-3 2.9 s for 3, fopdt-delay25 25.0 s for 25). The slope is > 0 on a cut
-    // probe's peak; the height is 0 after a hot start or a retry (no tangent). Readings < 2^17
-    // (Q8): 8 × peak < 2^20, the slope < 2^16, a cold pulse's on ticks < 2^13 (≤ 40 s past its
-    // cap at ≥ 10 ms periods): slope × on × 9/8 < 2^30; dev·8 < 2^20.
+    // probe's peak; the height is 0 after a hot start or a retry (no tangent), and an untrusted
+    // probe (a plateau taken for the peak) keeps its trend-guarded path. Readings < 2^17 (Q8):
+    // 8 × peak < 2^20, the slope < 2^16, a cold pulse's on ticks < 2^13 (< 40 s in all at ≥ 10 ms
+    // periods): slope × on × 9/8 < 2^30; dev·8 < 2^20.
     const uint32_t ramp = static_cast<uint32_t>(p.slope_max_q8) * p.on_ticks;
-    if (p.max_tick == 0 && p.slope_max_q8 > 0 && probe_max_q8_ > 0 &&
+    if (p.max_tick == 0 && !untrusted_ && p.slope_max_q8 > 0 && probe_max_q8_ > 0 &&
         8u * static_cast<uint32_t>(probe_max_q8_) <= ramp + (ramp >> 3)) {
       const int32_t tangent = p.max_centre_tick - p.slope_max_dev_q8 * kTicksPerBin / p.slope_max_q8 -
                               static_cast<int32_t>(p.off_tick - p.on_ticks);
@@ -1278,7 +1279,8 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       return relearn_slope(s_full > 32767u ? 32767 : static_cast<int32_t>(s_full));
     }
     case 9: {
-      // The probe showed no loss, so its S went without the pulse's own loss (probe stage 5):
+      // The probe showed no loss (landed 0 on a flat probe means no_loss), so its S went without
+      // the pulse's own loss (probe stage 5; a tangent-timed probe or not):
       // the peak is S·T·(1 − e^(−x)), x = on/T, ≈ S·on·(1 − x/2). Now that 1/T is known, S·(1 +
       // x/2): fopdt-delay25's S read 1.7 % low, and the deadbeat, on an exact L̂, landed 1 °C
       // over. x/2 < 2^15 (clamped: on < 2^13 ticks, 1/T ≤ 2^14), S < 2^15: the product < 2^31.
@@ -1584,13 +1586,14 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
   // approach's end). L̂ ≤ 254 bins, 1/T < 2^16: the product < 2^24. Likewise at any noise where L̂
   // is a tangent-timed dead time (probe stage 5: the response is the pulse's own ramp, no lag):
   // no crossing within D of a switch is the switch's (fopdt-delay25 at σ 0.3 °C, one realisation:
-  // halves of 12 s on noise crossings, D read 10 s for 25).
+  // halves of 12 s on noise crossings, D read 10 s for 25); the same 2 °C exception.
   const bool first_settled_half = settling_cycles_ == 0 && !started_cycle_;
   const bool noisy_dead_time = !untrusted_ && !first_settled_half && noise_q8_ > kLongHalfNoiseQ8 &&
                                uint32_t{horizon_bins_} * inv_t_q16_ >= kLongHalfLOverTQ16 &&
                                abs32(yf - target_q8_) <= kLongHalfFarQ8;
+  const bool dead_time = tangent_timed() && abs32(yf - target_q8_) <= kLongHalfFarQ8;
   const int32_t hl = untrusted_ ? horizon_ticks_ >> 2
-                                : (first_settled_half || noisy_dead_time || tangent_timed() ? horizon_ticks_ : horizon_ticks_ >> 1);
+                                : (first_settled_half || noisy_dead_time || dead_time ? horizon_ticks_ : horizon_ticks_ >> 1);
   const int32_t min_half = hl > kTicksPerBin ? hl : kTicksPerBin;
   if (relay_hi_) {
     if (yf < cyc_min_q8_) cyc_min_q8_ = yf;
@@ -1773,9 +1776,10 @@ void Autotune::fan_stage() {
   // The window ends early once the reading has fallen kFanFallQ8 past its first bin (a fast
   // hotend's slope is plain by then, and the dip stays small): its span is then the bins so far.
   // After a tangent-timed probe (an FOPDT: no lag whose transient the window must outlast;
-  // K·u = (1 + F)·rise + T·ẏ holds over any span) once it has fallen 8 σ of the reading, 2 °C at
-  // least: the fall's noise is then ≤ 1/16 of it (σ_bin = σ/√8, two bins). fopdt-slow's window
-  // took 30 bins to fall 8 °C. noise_q8_ < 2^9, × 128: < 2^16.
+  // K·u = (1 + F)·rise + T·ẏ holds over any span) once it has fallen 16 σ of the reading, 2 °C
+  // at least: the fall's noise is then under 1/30 of it (σ_bin = σ/√8, two bins; at 8 σ, F at
+  // σ 0.3 °C read ±12 %, at 16 σ ±9 %). fopdt-slow's window took 30 bins to fall 8 °C, now ~8.
+  // noise_q8_ < 2^9, × 255 ÷ 16: < 2^17.
   int32_t fall_end = kFanFallQ8;
   if (tangent_timed()) {
     const int32_t noisy = noise_floor(kFanFallQ8 / 4, kFanFallSigmaQ4);
@@ -2256,7 +2260,8 @@ bool Autotune::compute_chunk() {
         } else {
           // 2.5–4 × D: a shorter lag. An FOPDT peaks at D, read 0.99–1.39 × on the bank at
           // σ 0.1 °C (fopdt-slow's flat peak the latest; up to 2.33 × at σ 0.3 over 10 noise
-          // seeds), hotend40w-delay5 2.76–3.56 ×. The design then takes D from Tu.
+          // seeds), hotend40w-delay5 2.76–3.56 ×. The design then takes D from Tu. (A
+          // tangent-timed probe's L̂ is D itself, not its peak: never late.)
           result_.late_peak = 2 * peak > 5 * m.dead_time_q8;
         }
       }

@@ -191,7 +191,7 @@ class Autotune {
   uint16_t noise_q8() const { return noise_q8_; }  // reading noise σ measured so far (°C × 256)
   bool hot_start() const { return hot_start_; }  // started above ambient + 15 °C (known after 3 bins)
   bool untrusted() const { return untrusted_; }     // the probe's model is not trusted (trend guard)
-  uint8_t approach_law() const { return appr_.landed; }  // 0 deadbeat, 1 landed, 2 (3, 4) the slow law (after a flat probe's deadbeat)
+  uint8_t approach_law() const { return appr_.landed; }  // 0 deadbeat, 1 landed, 2 (3) the slow law (after a flat probe's deadbeat), 4 landed after a tangent-timed one
   bool lag_probe() const { return appr_.lag_probe; }
 
  private:
@@ -401,7 +401,8 @@ class Autotune {
     uint8_t near_bins;       // bins within 2 °C of the target (a stalled approach)
     uint8_t landed;          // 0 deadbeat (trusted cut probe's first approach), 1 landed, 2 the slow law,
                              // 3 the slow law after the deadbeat on a flat probe's model (stage 9 rebuilds it),
-                             // 4 the same on a tangent-timed flat probe's (tangent_timed(): L̂ to the tick)
+                             // 4 landed after the deadbeat on a tangent-timed flat probe's model (L̂ to the
+                             // tick: the model read at L̂, the landed gain, a ±1 °C settled window later)
     int32_t ref_rise_q8;
     int32_t ref_slope_q8;     // loss learning: rise where the slope S was measured
     uint8_t loss_estimates;   // loss learning at full power: estimates so far (averaged)

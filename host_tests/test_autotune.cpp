@@ -317,14 +317,16 @@ TEST_F(AutotunePlants, DurationTargets) {
   }
 }
 
-// M303 (C5 F1) on p from cold, until the probe hands over to the approach (its model is then set).
-void probe_until_approach(const Plant& p, design::PlantSim& sim, Autotune& at) {
+// M303 (C5 F1) on p from cold, until the probe hands over to the approach (its model is then set):
+// false if the tune did not start or stopped first.
+bool probe_until_approach(const Plant& p, design::PlantSim& sim, Autotune& at) {
   at.configure(128);
-  ASSERT_TRUE(at.start(static_cast<int32_t>(p.target_c * 256), 5, true));
+  if (!at.start(static_cast<int32_t>(p.target_c * 256), 5, true)) return false;
   while (at.phase() != Autotune::Phase::kApproach && at.state() == AutotuneState::kRunning) {
     const control::AutotuneOutput out = at.step(static_cast<int32_t>(std::lround(sim.measured_c() * 256)));
     sim.run(out.duty_q16 / 65535.0, kPeriodS);
   }
+  return at.phase() == Autotune::Phase::kApproach;
 }
 
 // The probe → approach → relay part on the FOPDT dead-time plants: on those whose cut probe
@@ -339,7 +341,7 @@ TEST(AutotuneApproach, FopdtDeadTimePlantsLandWithinHeatupPlusFourAndAHalfL) {
     design::PlantSim sim(p.model);
     sim.set_noise(0.1);
     Autotune at;
-    probe_until_approach(p, sim, at);
+    ASSERT_TRUE(probe_until_approach(p, sim, at)) << p.name;
     const double inv_t = at.inv_t_q16() / 65536.0, inv_t_true = Autotune::kTicksPerBin * kPeriodS / p.t;
     std::printf("%-8s 1/T per bin %.5f (true %.5f)\n", p.name.c_str(), inv_t, inv_t_true);
     EXPECT_NEAR(inv_t, inv_t_true, 0.03 * inv_t_true) << p.name;
@@ -352,21 +354,24 @@ TEST(AutotuneApproach, FopdtDeadTimePlantsLandWithinHeatupPlusFourAndAHalfL) {
 }
 
 // A slow FOPDT's cut probe peaks flat, and its highest bin, which the noise picks anywhere on the
-// plateau, read L̂ 12.3 s for fopdt-300-10's 10 and 4.1 s for fopdt-60-3's 3. Where the rise is the
-// pulse's own ramp, L̂ is the tangent's (probe stage 5): within 5 % or two ticks here (measured
-// 9.86–10.24 and 2.94–3.20 s at σ 0.02–0.3 °C). A lag-type hotend's probe is no ramp
+// plateau, read L̂ 12.3 s for fopdt-300-10's 10, 4.1 s for fopdt-60-3's 3 and 25.6 s for
+// fopdt-120-25's 25. Where the rise is the pulse's own ramp, L̂ is the tangent's (probe stage 5):
+// within 5 % or two ticks here (measured 9.86–10.24, 2.94–3.20 and 24.96 s at σ 0.02–0.3 °C).
+// A lag-type hotend's probe is no ramp
 // (two-node-delay5: peak ≈ 1.9 × the steepest slope × the pulse) and keeps its cut-to-peak time
 // (17–25 s; its tangent is ~6 s).
 TEST(AutotuneProbe, AFlatFopdtProbeTakesItsDeadTimeFromTheRampsTangent) {
+  int matched = 0;
   for (const Plant& p : plants()) {
-    if (p.name != "fopdt-300-10" && p.name != "fopdt-60-3" && p.name != "two-node-delay5") continue;
+    if (p.name != "fopdt-300-10" && p.name != "fopdt-60-3" && p.name != "fopdt-120-25" && p.name != "two-node-delay5") continue;
+    ++matched;
     for (const double noise : {0.02, 0.1, 0.3}) {
       for (const unsigned long long seed : {1ULL, 2ULL, 3ULL}) {
         design::PlantSim sim(p.model);
         sim.set_noise(noise);
         sim.set_noise_seed(seed);
         Autotune at;
-        probe_until_approach(p, sim, at);
+        ASSERT_TRUE(probe_until_approach(p, sim, at)) << p.name << " σ " << noise << " seed " << seed;
         const double l_s = at.horizon_ticks() * kPeriodS;
         std::printf("%-16s σ %.2f seed %llu: L̂ %.2f s\n", p.name.c_str(), noise, seed, l_s);
         if (p.name == "two-node-delay5") {
@@ -377,6 +382,7 @@ TEST(AutotuneProbe, AFlatFopdtProbeTakesItsDeadTimeFromTheRampsTangent) {
       }
     }
   }
+  EXPECT_EQ(matched, 4);
 }
 
 // Cut probes that peak late against their response (a sensor lag, not a dead time): heavy-slow

@@ -357,9 +357,8 @@ TEST(AutotuneApproach, FopdtDeadTimePlantsLandWithinHeatupPlusFourAndAHalfL) {
 // plateau, read L̂ 12.3 s for fopdt-300-10's 10, 4.1 s for fopdt-60-3's 3 and 25.6 s for
 // fopdt-120-25's 25. Where the rise is the pulse's own ramp, L̂ is the tangent's (probe stage 5):
 // within 5 % or two ticks here (measured 9.86–10.24, 2.94–3.20 and 24.96 s at σ 0.02–0.3 °C).
-// A lag-type hotend's probe is no ramp
-// (two-node-delay5: peak ≈ 1.9 × the steepest slope × the pulse) and keeps its cut-to-peak time
-// (17–25 s; its tangent is ~6 s).
+// A lag-type hotend's probe is no ramp (two-node-delay5: peak ≈ 1.9 × the steepest slope × the
+// pulse) and keeps its cut-to-peak time (17–25 s; its tangent is ~6 s).
 TEST(AutotuneProbe, AFlatFopdtProbeTakesItsDeadTimeFromTheRampsTangent) {
   int matched = 0;
   for (const Plant& p : plants()) {

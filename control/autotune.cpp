@@ -79,10 +79,13 @@ constexpr uint8_t kDriftSigmaQ4 = 6;
 // σ 0.3 as ≈ 0.27), on a hotend whose L̂/T (probe horizon over the learnt time constant) is ≥ 0.2.
 constexpr uint16_t kLongHalfNoiseQ8 = Autotune::kNoisyQ8;
 constexpr uint32_t kLongHalfLOverTQ16 = 13107;
-// The settled hold's window W = L̂ + 2 bins at least C/3 (settled_hold): its drift correction
-// C·Δy/W then amplifies the halves' centre-to-centre slope at most 3 × (a flat probe's slower
-// approach on fopdt-120-25, C/W 4.3, read A 6 % low on 3 of 9 realisations at σ 0.1).
-constexpr uint32_t kHoldWindowOverTQ16 = 21845;
+// The settled hold's window W = L̂ + 2 bins at least C/5 (settled_hold): its drift correction
+// C·Δy/W then amplifies the halves' centre-to-centre slope at most 5 ×. With the window's duty
+// read a bin nearer (settled_window) fopdt-120-25 (C/W 4.3) reads A within 0.4 % over 32 noise
+// realisations at σ 0.05 / 0.1 °C, and K 700 C 50 D 12 (C/W 3.5) within 0.5 % over 18 at σ
+// 0.05–0.2. (With the duty a bin further back fopdt-120-25 read A 6 % low on 3 of 9 at σ 0.1, and
+// the window was held to C/3.)
+constexpr uint32_t kHoldWindowOverTQ16 = 13107;
 constexpr int32_t kLongHalfFarQ8 = 2 * kQ8;
 constexpr uint8_t kGuardSigmaQ4 = 3;
 constexpr int32_t kGuardMarginQ8 = 2 * kQ8;     // untrusted model: relay's trend limit above target
@@ -1432,25 +1435,32 @@ void Autotune::settled_window() {
     cyc_max_q8_ = 0;
     return;
   }
-  // L̂ in bins, rounded (L̂ ≥ 0; a shift: avr-gcc -Os calls a 32-bit division for `/ 8`, +500 cycles)
-  const int32_t shift = (horizon_ticks_ + kTicksPerBin / 2) >> 3;
+  // L̂ in bins, rounded, less one (≥ 0: L̂ ≥ 8 ticks; a shift: avr-gcc -Os calls a 32-bit division
+  // for `/ 8`, +500 cycles). Measured, not derived: where the duty still moves through the window
+  // (after a tangent-timed landing) round(L̂/8) read fopdt-120-25's A −2.4..+0.3 % over 32 noise
+  // realisations, one bin less −0.2..+0.4 % (seed002 / seed004 −0.3..+0.2 / −0.8..+0.4 → −0.2..+0.2 /
+  // −0.4..+0.2 %); an interpolated L̂/8 − 1.25..1.5 bins reads the same. The steps pair each reading
+  // with the duty of its own period (step()), so the extra bin's source is not pinned down.
+  const int32_t shift = ((horizon_ticks_ + kTicksPerBin / 2) >> 3) - 1;
   cyc_min_q8_ += y_bin_q8_ - target_q8_;
   cyc_max_q8_ += duty_ago(static_cast<uint8_t>(shift < horizon_bins_ ? shift : horizon_bins_));
   if (ap.settled_bins == hold_half_bins(ap)) cyc_sum_dev_ = cyc_min_q8_;
 }
 
-// On a dead-time-dominated FOPDT hotend (L̂ + 2 bins ≥ C/3) each relay cycle lasts ≥ 4 L̂ (seed002: 70 s),
+// On a dead-time-dominated FOPDT hotend (L̂ + 2 bins ≥ C/5) each relay cycle lasts ≥ 4 L̂ (seed002: 70 s),
 // and the relay's three (a low half of ≥ L̂ and two measured cycles) took 160 s of seed002's
 // 332 s tune. Where the model needs nothing the relay alone gives: a cold start's sharp cut
 // probe (C from the pulse's peak, D its cut-to-peak time: within 0.5 % and 0.2 % on seed002), its
 // deadbeat approach landed and settled on the target without going past it, and C ≤ 5 (more
 // asks for the relay), the settled window gives A (K·ū = rise + T·ẏ over it) and the fan step
-// follows at once. compute_chunk then has no relay cycle (ku_count_ 0): D from L̂, no Ku/Tu.
-// The window's sums go to the relay's (per tick: × 8; duty q16 >> 4 = q8 × 16: < 2^16 × 128 <
-// 2^23). No division (the step's budget).
+// follows at once. Likewise after a flat probe timed by its ramp's tangent (landed 4: D from the
+// tangent, C from the pulse's peak as after a sharp one): fopdt-120-25's relay took 234 s of its
+// 461 s tune (two cycles of ~105 s on its 25 s dead time). compute_chunk then has no relay cycle
+// (ku_count_ 0): D from L̂, no Ku/Tu. The window's sums go to the relay's (per tick: × 8; duty
+// q16 >> 4 = q8 × 16: < 2^16 × 128 < 2^23). No division (the step's budget).
 __attribute__((noinline)) bool Autotune::settled_hold() {
   Approach& ap = near(appr_);
-  if (ap.settled_bins < ap.bins + 2 || untrusted_ || hot_start_ || probe_.continuous || ap.landed != 1 ||
+  if (ap.settled_bins < ap.bins + 2 || untrusted_ || hot_start_ || probe_.continuous || (ap.landed != 1 && ap.landed != 4) ||
       ap.lag_probe || ap.overshot || cycles_ > 5 || uint32_t{ap.bins + 2u} * inv_t_q16_ < kHoldWindowOverTQ16) {
     return false;
   }
@@ -2133,7 +2143,8 @@ bool Autotune::compute_chunk() {
       m.time_constant_q8 = v.t_sum_q8 / count;
       return false;
     case 2:
-      // No relay (settled_hold): the sharp cut probe's cut-to-peak time, an FOPDT's D.
+      // No relay (settled_hold): the sharp cut probe's cut-to-peak time or the flat one's
+      // tangent, an FOPDT's D.
       m.dead_time_q8 = ku_count_ == 0 ? seconds_q8(static_cast<uint16_t>(horizon_ticks_)) : v.l_sum_q8 / count;
       return false;
     case 3:

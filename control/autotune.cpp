@@ -81,10 +81,10 @@ constexpr uint16_t kLongHalfNoiseQ8 = Autotune::kNoisyQ8;
 constexpr uint32_t kLongHalfLOverTQ16 = 13107;
 // The settled hold's window W = L̂ + 2 bins at least C/5 (settled_hold): its drift correction
 // C·Δy/W then amplifies the halves' centre-to-centre slope at most 5 ×. With the window's duty
-// read a bin nearer (settled_window) fopdt-120-25 (C/W 4.3) reads A within 0.4 % over 32 noise
-// realisations at σ 0.05 / 0.1 °C, and K 700 C 50 D 12 (C/W 3.5) within 0.5 % over 18 at σ
-// 0.05–0.2. (With the duty a bin further back fopdt-120-25 read A 6 % low on 3 of 9 at σ 0.1, and
-// the window was held to C/3.)
+// aligned as settled_window does, fopdt-120-25 (C/W 4.3) held on 26 of 32 noise realisations at
+// σ 0.05 / 0.1 °C and K 700 C 50 D 12 (C/W 3.5) on 8 of 18 at σ 0.05–0.2, A within 0.4 % on each
+// hold. (With the duty a bin further back fopdt-120-25 read A 6 % low on 3 of 9 at σ 0.1, and the
+// window was held to C/3.)
 constexpr uint32_t kHoldWindowOverTQ16 = 13107;
 constexpr int32_t kLongHalfFarQ8 = 2 * kQ8;
 constexpr uint8_t kGuardSigmaQ4 = 3;
@@ -1419,11 +1419,11 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
   }
 }
 
-// The approach's settled window (its last L̂ + 2 bins within ±0.5 °C) as a measurement, per bin:
-// Σ (y − target) (q8) and Σ duty (q8) taken L̂ earlier (the reading shows it then: an FOPDT's
-// T·ẏ + y = K·u(t − D)), and the first half's Σ (y − target) for the window's drift (compute:
-// K·ū = rise + T·ẏ). Restarted whenever the reading leaves the band. |y − target| < 0.5 °C and
-// duty ≤ 255 per bin, ≤ 255 bins: both sums < 2^16. In the relay's per-cycle figures, which the
+// The approach's settled window (its last L̂ + 2 bins within ±0.5 °C, ±1 °C after a tangent-timed
+// landing) as a measurement, per bin: Σ (y − target) (q8) and Σ duty (q8) taken about L̂ earlier
+// (the reading shows it then: an FOPDT's T·ẏ + y = K·u(t − D)), and the first half's Σ (y − target)
+// for the window's drift (compute: K·ū = rise + T·ẏ). Restarted whenever the reading leaves the
+// band. |y − target| ≤ 1 °C and duty ≤ 255 per bin, ≤ 72 bins: both sums < 2^16. In the relay's per-cycle figures, which the
 // relay sets before it first reads them (relay_tick): cyc_min_q8_ the Σ (y − target),
 // cyc_max_q8_ the Σ duty, cyc_sum_dev_ the first half's (the first two within one LDD's reach).
 uint8_t Autotune::hold_half_bins(const Approach& ap) { return static_cast<uint8_t>((ap.bins + 2) / 2); }
@@ -1435,12 +1435,12 @@ void Autotune::settled_window() {
     cyc_max_q8_ = 0;
     return;
   }
-  // L̂ in bins, rounded, less one (≥ 0: L̂ ≥ 8 ticks; a shift: avr-gcc -Os calls a 32-bit division
-  // for `/ 8`, +500 cycles). Measured, not derived: where the duty still moves through the window
-  // (after a tangent-timed landing) round(L̂/8) read fopdt-120-25's A −2.4..+0.3 % over 32 noise
-  // realisations, one bin less −0.2..+0.4 % (seed002 / seed004 −0.3..+0.2 / −0.8..+0.4 → −0.2..+0.2 /
-  // −0.4..+0.2 %); an interpolated L̂/8 − 1.25..1.5 bins reads the same. The steps pair each reading
-  // with the duty of its own period (step()), so the extra bin's source is not pinned down.
+  // L̂ in bins, rounded, less one: L̂/8 − f bins back, f 0.5–1.5 by L̂'s fraction (≥ 0: L̂ ≥ 8 ticks;
+  // a shift: avr-gcc -Os calls a 32-bit division for `/ 8`, +500 cycles). Measured, not derived
+  // (docs/autotune.md, "The settled hold after a tangent-timed landing"): where the duty still
+  // moves through the window, f near 0 read fopdt-120-25's A down to −3.8 %; f 0.5–1.5 (D 24.1–25.5 s)
+  // within −0.4..+0.4 %. The steps pair each reading with its own period's duty (step()): the
+  // extra bin's source is not pinned down.
   const int32_t shift = ((horizon_ticks_ + kTicksPerBin / 2) >> 3) - 1;
   cyc_min_q8_ += y_bin_q8_ - target_q8_;
   cyc_max_q8_ += duty_ago(static_cast<uint8_t>(shift < horizon_bins_ ? shift : horizon_bins_));

@@ -39,9 +39,10 @@
 //             after an approach that settled (deadbeat or lag-type): a first low half ≥ L̂, and d
 //             kept from then on. A bias under the smallest d (an approach held with the heater
 //             off): levels 0 and 2d, then levels 0 and the first nudge's ū, in a settling cycle.
-//             None at all (settled_hold) on a cold dead-time FOPDT hotend whose sharp probe's
-//             deadbeat approach settled (window L̂ + 2 bins ≥ C/3, C ≤ 5): the settled window's
-//             delay-aligned duty gives K, the probe C and D = L̂; no Ku/Tu (0)
+//             None at all (settled_hold) on a cold dead-time FOPDT hotend whose probe (a sharp
+//             peak, or a flat one timed by its ramp's tangent) led a deadbeat approach that
+//             settled (window L̂ + 2 bins ≥ C/5, C ≤ 5): the settled window's delay-aligned duty
+//             gives K, the probe C and D = L̂; no Ku/Tu (0)
 //   fan step  part fan at 100 %, the heater held open loop at the last relay cycle's mean duty
 //             (after a settled hold: the approach's smoothed duty)
 //             (the reading can only fall); from L̂ + 2 bins on (2 L̂ + 2 lag-type) a window of

@@ -1663,18 +1663,6 @@ void Autotune::end_cycle(uint16_t t_lo) {
     sum_dev_[0] += cyc_sum_dev_;
     sum_duty_[0] += cyc_sum_duty_ >> 4;
     sum_ticks_[0] += period_ticks_;
-    {
-      StoredCycle& c = scratch_.stored[stored_count_ % kMaxStoredCycles];
-      ++stored_count_;
-      c.u_hi_q16 = static_cast<uint16_t>(bias_q16_ + d_q16_);
-      c.u_lo_q16 = static_cast<uint16_t>(bias_q16_ - d_q16_);
-      c.max_q8 = static_cast<int16_t>(cyc_max_q8_ - target_q8_);
-      c.min_q8 = static_cast<int16_t>(cyc_min_q8_ - target_q8_);
-      c.switch_hi_q8 = static_cast<int16_t>(sw_hi_q8_ - target_q8_);
-      c.switch_lo_q8 = static_cast<int16_t>(sw_lo_q8_ - target_q8_);
-      c.t_hi = t_hi_;
-      c.t_lo = t_lo;
-    }
   }
   cycle_stage_ = 1;
 }
@@ -1696,6 +1684,21 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
       ku_sum_q8_ += static_cast<uint32_t>(ultimate_.ku_q8);
       tu_sum_q8_ += static_cast<uint32_t>(ultimate_.tu_q8);
       ++ku_count_;
+      // The cycle for compute's T/L fit, here rather than in end_cycle, whose step also runs the
+      // relay's tick (seed002-lag2's largest step, 2,962 cycles, was that switch; now 2,731). This
+      // stage runs ≤ 7 steps after the switch (bin_end and the relay's ≤ 4 bin stages first), the
+      // next switch is ≥ 8 ticks away and stage 3 moves the bias: the levels, switch readings and
+      // t_hi are the cycle's still. Its extremes moved on: cycle_'s copies.
+      StoredCycle& c = scratch_.stored[stored_count_ % kMaxStoredCycles];
+      ++stored_count_;
+      c.u_hi_q16 = static_cast<uint16_t>(bias_q16_ + d_q16_);
+      c.u_lo_q16 = static_cast<uint16_t>(bias_q16_ - d_q16_);
+      c.max_q8 = static_cast<int16_t>(cycle_.max_q8 - target_q8_);
+      c.min_q8 = static_cast<int16_t>(cycle_.min_q8 - target_q8_);
+      c.switch_hi_q8 = static_cast<int16_t>(sw_hi_q8_ - target_q8_);
+      c.switch_lo_q8 = static_cast<int16_t>(sw_lo_q8_ - target_q8_);
+      c.t_hi = t_hi_;
+      c.t_lo = static_cast<uint16_t>(period_ticks_ - t_hi_);
     }
     return 3;
   }

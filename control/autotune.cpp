@@ -1522,6 +1522,10 @@ uint8_t Autotune::relay_stage(uint8_t stage) {
     pending_q8_ = s4 < 0 ? level + shift : level - shift;
     return 4;
   }
+  // A switch since stage 3 (which nudges only ≥ its wait, ≥ 32 ticks, into a half): the nudge was
+  // for the half that ended. The new half keeps its levels, and so does the record cycle_stage 2
+  // writes of the cycle that switch completed.
+  if (half_ticks_ < kTicksPerBin) return 0;
   const int32_t u = pending_q8_;
   const int32_t rise = y_bin_q8_ - ambient_q8_;
   if (u <= 0 || rise <= kQ8) return 0;
@@ -1687,8 +1691,9 @@ uint8_t Autotune::cycle_stage(uint8_t stage) {
       // The cycle for compute's T/L fit, here rather than in end_cycle, whose step also runs the
       // relay's tick (seed002-lag2's largest step, 2,962 cycles, was that switch; now 2,731). This
       // stage runs ≤ 7 steps after the switch (bin_end and the relay's ≤ 4 bin stages first), the
-      // next switch is ≥ 8 ticks away and stage 3 moves the bias: the levels, switch readings and
-      // t_hi are the cycle's still. Its extremes moved on: cycle_'s copies.
+      // next switch is ≥ 8 ticks away, a nudge decided before the switch is dropped (relay_stage
+      // 4) and stage 3 moves the bias: the levels, switch readings and t_hi are the cycle's
+      // still. Its extremes moved on: cycle_'s copies.
       StoredCycle& c = scratch_.stored[stored_count_ % kMaxStoredCycles];
       ++stored_count_;
       c.u_hi_q16 = static_cast<uint16_t>(bias_q16_ + d_q16_);

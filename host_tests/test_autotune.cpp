@@ -362,7 +362,7 @@ TEST(AutotuneApproach, FopdtDeadTimePlantsLandWithinHeatupPlusFourAndAHalfL) {
 TEST(AutotuneProbe, AFlatFopdtProbeTakesItsDeadTimeFromTheRampsTangent) {
   int matched = 0;
   for (const Plant& p : plants()) {
-    if (p.name != "fopdt-300-10" && p.name != "fopdt-60-3" && p.name != "fopdt-120-25" && p.name != "two-node-delay5") continue;
+    if (!in({"fopdt-300-10", "fopdt-60-3", "fopdt-120-25", "two-node-delay5"}, p.name)) continue;
     ++matched;
     for (const double noise : {0.02, 0.1, 0.3}) {
       for (const unsigned long long seed : {1ULL, 2ULL, 3ULL}) {

@@ -623,6 +623,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     flight_stage();
     return 0;
   }
+  if (stage >= 8) return tail_stage(stage);
   const uint16_t k = bins_;  // bin k covers probe ticks (8(k − 1), 8k]
   if (stage == 3) {
     // Loss rate from the decay after the peak: drop / (mid rise · bins), Q16 (drop < 2^15).
@@ -661,6 +662,7 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
       return 4;
     }
     p.fit_p_q6 = window;  // the tail's wait and span (bin logic below)
+    p.lag_q4 = 0;         // the heat-up's lag is done with; the tail's 1/T from stage 10
     return 0;
   }
   if (stage == 4) {
@@ -684,17 +686,15 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
     return 5;
   }
   if (stage == 5) {
+    appr_.full_bins = 0;
+    if (tail_timed()) return 20;  // S, 1/T and L̂ from the tail (stage 13)
     // The loss already acts during the pulse: the peak is S·T·(1 − e^(−x)), x = on/T, not S·on.
     // Undo it with x/(1 − e^(−x)) ≈ 1 + x/2 + x²/12 (x ≤ 2, Q16: x² as (x/16)²/256 < 2^27;
     // ÷12 as ·5461/2^16). Else S is ~10 % low on FOPDT hotends, ū ~10 % high, and the approach
     // overshoots by that share of the rise until the loss is re-learnt.
-    uint32_t x = (uint32_t{p.on_ticks} * inv_t_q16_) >> 3;  // ≤ 2^16 · 2^14
-    if (x > 131072) x = 131072;
-    const uint32_t x16 = x >> 4;
-    const uint32_t factor = 65536 + x / 2 + ((((x16 * x16) >> 8) * 5461u) >> 16);
+    const uint32_t factor = pulse_loss_factor_q16(inv_t_q16_);
     const int32_t s = fixed::mul_round(pending_q8_, fixed::Multiplier{factor >> 16, static_cast<uint16_t>(factor)});
     slope_q8_ = s < p.slope_max_q8 ? p.slope_max_q8 : s;
-    appr_.full_bins = 0;
     // Cut-to-peak time (the FOPDT's dead time): the peak is at the centre of the highest bin.
     horizon_ticks_ = (p.max_tick != 0 ? static_cast<int32_t>(p.max_tick) : static_cast<int32_t>(p.peak_bin) * kTicksPerBin - kTicksPerBin / 2) -
                      static_cast<int32_t>(p.off_tick);
@@ -743,8 +743,10 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
       p.max_centre_tick = static_cast<int32_t>(k - 1) * kTicksPerBin - kTicksPerBin / 2;
     }
   }
+  // Σ dev over bins 1..k − 2, on after a cut too (the tail model's pulse area, stage 11):
+  // ≤ 2^17 per bin over at most a few hundred bins of probe: < 2^26.
+  p.area_q8 += p.dev_prev2_q8;
   if (heater_on_) {
-    p.area_q8 += p.dev_prev2_q8;  // ≤ 2^17 per bin over ≤ 40 s of bins: < 2^23
     heat_sample(k, slope);
     if (!p.detected) return 0;
     // Still steepening (lags filling up): keep heating past the energy cap while, even at the
@@ -846,7 +848,95 @@ uint8_t Autotune::probe_stage(uint8_t stage) {
   const uint16_t end_a = static_cast<uint16_t>(3 * window), end_b = static_cast<uint16_t>(end_a + window);
   if (since + 1 == end_a || since == end_a) p.fit_q_q8 = (since == end_a ? p.fit_q_q8 : 0) + p.dev_q8;
   if (since + 1 == end_b || since == end_b) p.fit_r_q8 = (since == end_b ? p.fit_r_q8 : 0) + p.dev_q8;
-  return since < end_b ? 0 : 4;
+  if (since < end_b) return 0;
+  return since == end_b ? 8 : 13;  // the tail's model (stages 8–12 now, 13 the next bin)
+}
+
+// x/(1 − e^(−x)), x = on/T (the pulse over the time constant, 1/T per bin Q16 < 2^15), Q16: a
+// pulse of `on` bins at full power raises an FOPDT by S·T·(1 − e^(−x)), not S·on (probe stage 5,
+// tail_stage). ≈ 1 + x/2 + x²/12 (x ≤ 2, Q16: x² as (x/16)²/256 < 2^27; ÷12 as ·5461/2^16).
+__attribute__((noinline)) uint32_t Autotune::pulse_loss_factor_q16(uint16_t inv_t_q16) const {
+  uint32_t x = (uint32_t{probe_.on_ticks} * inv_t_q16) >> 3;  // < 2^16 · 2^15
+  if (x > 131072) x = 131072;
+  const uint32_t x16 = x >> 4;
+  return 65536 + x / 2 + ((((x16 * x16) >> 8) * 5461u) >> 16);
+}
+
+// A cold cut probe whose flat peak decays fast (a dead time, maybe behind a thermistor lag τ2)
+// read its tail (stage 3, the bin logic): two 2-bin sums a, b one window w apart, where the
+// block's own e^(−t/τ1) is nearly all that is left. Its peak's S (the highest bin over the pulse)
+// and early 1/T are both blunted by τ2 (seed002 behind a 2 s lag: S 15.9 per bin for 19.2,
+// T 38 s for 24; the approach's model put ~120 °C in flight at 35 °C and crawled on the slow law
+// for 218 s). The tail gives the FOPDT that its step response tends to, K(1 − e^(−(t − L)/T)):
+//   T = w / ln(a/b) (stages 8–10);
+//   K·on = ∫ rise dt, the pulse's area, whatever the lags and delay: the bins so far plus the
+//     tail's y_c·T beyond the centre of b (stage 11);
+//   S = K/T; the undelayed model's peak X = S·on / (x/(1 − e^(−x))) (stages 11–12);
+//   L = t_c − T·ln(X/y_c), y_c = b/2 at b's centre t_c after the cut (stage 13), D + τ2
+//     to within τ1·ln(τ1/(τ1 − τ2)) − τ2 (24/2/18.7 s: L 20.7 s for 20.8, S and T within 0.2 %
+//     in a double-precision check; an FOPDT's L within 0.1 s).
+// Taken where 0 < L < the cut-to-peak time; the probe then counts as tangent_timed() (L̂ a dead
+// time, not a peak) and tail_timed() (the deadbeat approach, begin_stage). Each stage at most one
+// division or logarithm; 8–12 run in the bin the tail ends (with stage 1: 6 steps), 13 in the next
+// with 4, 5 and the hand-over (7). The figures live in the cut path's fields that are free by now:
+// y_after_q8 (ln, then S), y_peak_q8 (T, bins × 256), slope_rise_q8 (X), lag_q4 (1/T; 0 where the
+// model is not taken).
+__attribute__((noinline)) uint8_t Autotune::tail_stage(uint8_t stage) {
+  Probe& p = near(probe_);
+  const uint32_t w = static_cast<uint32_t>(p.fit_p_q6);  // 3..17 bins (stage 3: 4w + 1 ≤ 70)
+  if (stage == 8) {
+    if (!tail_fell()) return 4;
+    // a/b in (8/7, 4] (tail_fell): ln in Q16 within 8,750..90,852.
+    p.y_after_q8 = fixed_math::ln_ratio_q16(static_cast<uint32_t>(p.fit_q_q8), static_cast<uint32_t>(p.fit_r_q8));
+    return 9;
+  }
+  const uint32_t ln = static_cast<uint32_t>(p.y_after_q8);
+  if (stage == 9) {
+    p.y_peak_q8 = static_cast<int32_t>(((w << 24) + ln / 2) / ln);  // T ≤ 17/0.1335 bins: < 2^15 (Q8)
+    return 10;
+  }
+  if (stage == 10) {
+    p.lag_q4 = static_cast<uint16_t>((ln + w / 2) / w);  // 1/T per bin, Q16 < 2^15 (w ≥ 3)
+    return 11;
+  }
+  if (stage == 11) {
+    // The pulse's area in °C × 256 × bins: bins 1..end_b − 1 (area_q8 is two bins behind the one
+    // just done, dev_prev_q8 the last of them) and y_c·T = (b/2)·(T_q8/256) beyond the centre of
+    // b, which is the boundary of its two bins (b < 2^18, T_q8 < 2^15: each term < 2^26). Over
+    // T: S·on (°C × 256, < 2^26), kept for stage 12; S = S·on / on per bin (S·on·8 < 2^29).
+    const int32_t total = p.area_q8 + p.dev_prev_q8 + (fixed::mul_q16(p.fit_r_q8, static_cast<uint16_t>(p.y_peak_q8)) << 7);
+    const int32_t lossless = total > 0 ? fixed::mul_q16(total, p.lag_q4) : 0;
+    const uint32_t on = p.on_ticks > 0 ? p.on_ticks : 1;
+    p.slope_rise_q8 = lossless;
+    p.y_after_q8 = static_cast<int32_t>((static_cast<uint32_t>(lossless) * kTicksPerBin + on / 2) / on);
+    return 12;
+  }
+  if (stage == 12) {
+    p.slope_rise_q8 = static_cast<int32_t>(div_q16(static_cast<uint32_t>(p.slope_rise_q8), pulse_loss_factor_q16(p.lag_q4)));
+    return 0;
+  }
+  // Stage 13. L = t_c − T·ln(X/y_c) in probe ticks: t_c is the boundary of b's bins (end_b − 1
+  // and end_b, their readings' mean half a tick after it: rounded up), T·ln = T_q8·ln_q16/2^21
+  // (ln < 16 as Q12: T_q8 · ln_q12 < 2^15 · 2^16; no X/y_c that large reaches here).
+  const uint16_t end_b = static_cast<uint16_t>(p.peak_bin + 4 * w);
+  const int32_t t_c = static_cast<int32_t>(end_b) * kTicksPerBin - (kTicksPerBin - 1) - static_cast<int32_t>(p.off_tick);
+  const int32_t peak_t = static_cast<int32_t>(p.peak_bin) * kTicksPerBin - kTicksPerBin / 2 - static_cast<int32_t>(p.off_tick);
+  const int32_t x2 = 2 * p.slope_rise_q8;
+  int32_t l = 0;
+  if (x2 > p.fit_r_q8 && p.fit_r_q8 > 0) {
+    const uint32_t ln_q12 = static_cast<uint32_t>(fixed_math::ln_ratio_q16(static_cast<uint32_t>(x2), static_cast<uint32_t>(p.fit_r_q8))) >> 4;
+    l = ln_q12 < 65536 ? t_c - static_cast<int32_t>((static_cast<uint32_t>(p.y_peak_q8) * ln_q12) >> 17) : 0;
+  }
+  if (l > 0 && l < peak_t && p.y_after_q8 > 0) {
+    slope_q8_ = p.y_after_q8 < p.slope_max_q8 ? p.slope_max_q8 : (p.y_after_q8 > 32767 ? 32767 : p.y_after_q8);
+    inv_t_q16_ = p.lag_q4;
+    horizon_ticks_ = l;
+    p.peak_bin = 0;  // tangent_timed(), tail_timed()
+    p.y_after_q8 = peak_t - l;  // the peak's lateness against L (ticks): a lag's sign
+  } else {
+    p.lag_q4 = 0;
+  }
+  return 4;
 }
 
 // The heat-up's samples for the lag fit: at bin centres 2, 4, 8, 16, … the last two (no division).
@@ -1027,7 +1117,7 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   // sooner): a light 80 W block behind a 20 s transport delay peaks flat with that timing, and
   // the deadbeat landed it at S + 3.6 °C with the relay biased above its steady duty: S + 25 °C
   // (aborted) in 6 of 9 host runs at σ 0.1–0.5 (test: FlatPeakBehindATransportDelay...).
-  const bool fopdt_like = probe_.max_tick != 0;
+  const bool fopdt_like = probe_.max_tick != 0 || tail_timed();
   // A cold cut probe whose decay was too slow to show the loss (1/T = 0): the same full-power
   // law on a model without loss, which over-predicts the rise and so lands short, then the slow
   // law (its P law around ū = 0 held fopdt-120-25 60 °C short for 90 s, until the loss was learnt).
@@ -1144,6 +1234,12 @@ void Autotune::model_bin() {
   }
 }
 
+// After a tail-timed probe's deadbeat, until its full-power ramp has passed through the reading
+// (approach stage 6): neither the anchor nor the predictor follows the reading.
+__attribute__((noinline)) bool Autotune::ramp_in_reading() const {
+  return appr_.landed == 4 && tail_timed() && bins_ < appr_.det_bins;
+}
+
 // The stage after model_bin: the pre-approach history entry about to be read, and the anchor.
 // One mul_q16.
 void Autotune::model_anchor() {
@@ -1155,7 +1251,16 @@ void Autotune::model_anchor() {
     ap.fill_x_q8 += (ap.fill_j < ap.fill_on ? slope_q8_ : 0) - fixed::mul_q16(ap.fill_x_q8, ap.fill_a_q16);
     ring_[wrap_ring(static_cast<uint8_t>(ap.fill_head + kRingBins - 1 - ap.fill_j))] = ring_entry(ap.fill_x_q8);
   }
-  const int32_t anchor = div2n(y_bin_q8_ - ambient_q8_ - model_delayed(), 2);
+  const int32_t err = y_bin_q8_ - ambient_q8_ - model_delayed();
+  // A tail-timed probe's landing (approach stage 6 of the last bin; no lag probe: det_bins and
+  // det_flight_q8 are free): the reading's offset from the model now, held until the ramp has
+  // passed through the reading, L̂ + 3 bins on and half the peak's lateness (ticks) more.
+  if (ap.landed == 4 && ap.det_bins == 0 && tail_timed()) {
+    const uint16_t end = static_cast<uint16_t>(bins_ + horizon_bins_ + 3 + (probe_.y_after_q8 >> 1));
+    ap.det_bins = static_cast<uint8_t>(end > 255 ? 255 : end);
+    ap.det_flight_q8 = err + ambient_q8_;
+  }
+  const int32_t anchor = ramp_in_reading() ? 0 : div2n(err, 2);
   offset_q8_ += anchor;
   model_q8_ += anchor;
   // An untrusted model's relay: heater off while the trend would carry the reading
@@ -1323,6 +1428,13 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
         const int32_t lag_flight = (slope4_q8() * lag_q4) >> 4;
         if (lag_flight > in_flight) in_flight = lag_flight;
       }
+      // After a tail-timed probe's deadbeat: the model is an FOPDT's, the hotend maybe a dead
+      // time behind a thermistor lag, whose reading leads the model's delayed copy where the
+      // full-power ramp starts to show and lags it where it ends (24/2/18.7 s: +16 °C for a few
+      // bins). The P law took that for a landing error and cut the duty to 0.36 (a 1.6 °C dip L̂
+      // later, then 0.9 °C over). Until the landing's ramp has passed through the reading
+      // (stage 6 of the landing bin), the correction stays the one at the landing.
+      if (ramp_in_reading()) in_flight = model_ago(0) - y_bin_q8_ + ap.det_flight_q8;
       const int32_t predicted = y_bin_q8_ + in_flight;
       int32_t ex = fixed::clamp(target_q8_ - predicted, -200 * kQ8, 200 * kQ8);
       if (untrusted_ || ap.blunted) {
@@ -1349,7 +1461,10 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       }
       ex = fixed::clamp(ex, -200 * kQ8, 200 * kQ8);  // again after the deadbeat's heat in flight
       const int32_t u = ap.steady_q16 + ((ex * gain) >> 8);  // |ex·gain| ≤ 51,200 · 40,000 < 2^31
-      if (u < kFull && ap.landed == 0) ap.landed = probe_.max_tick != 0 ? 1 : (tangent_timed() ? 4 : 3);
+      if (u < kFull && ap.landed == 0) {
+        ap.landed = probe_.max_tick != 0 ? 1 : (tangent_timed() ? 4 : 3);
+        if (tail_timed()) ap.det_bins = 0;  // the next bin's model_anchor takes the landing's figures
+      }
       duty_q16_ = clamp_duty(u);
       ap.duty_avg_q16 += div2n(static_cast<int32_t>(duty_q16_) - ap.duty_avg_q16, 2);
       // Above the target with the trend carrying it past S + 2 °C: heater off, as in the relay.
@@ -1766,7 +1881,8 @@ __attribute__((noinline)) void Autotune::end_nofan() {
 // From L̂ + 2 bins after the fan came on (2 L̂ + 2 on a lag-type hotend: its sensor lag must pass
 // too) a window of ⌈C/2⌉ × (L̂/2 + 4) bins: length in bins (< 2^10 for L̂ < 256).
 uint16_t Autotune::fan_wait_bins() const {
-  return static_cast<uint16_t>((probe_.continuous ? 2u : 1u) * horizon_bins_ + 2u);
+  const uint16_t late = tail_timed() ? static_cast<uint16_t>((probe_.y_after_q8 + 7) >> 3) : 0;
+  return static_cast<uint16_t>((probe_.continuous ? 2u : 1u) * horizon_bins_ + 2u + late);
 }
 
 uint16_t Autotune::fan_span_bins() const {
@@ -1799,7 +1915,7 @@ void Autotune::fan_stage() {
   // σ 0.3 °C read ±12 %, at 16 σ ±9 %). fopdt-slow's window took 30 bins to fall 8 °C, now ~8.
   // noise_q8_ < 2^9, × 255 ÷ 16: < 2^17.
   int32_t fall_end = kFanFallQ8;
-  if (tangent_timed()) {
+  if (tangent_timed() && !tail_timed()) {  // (a tail-timed probe's hotend may have a lag)
     const int32_t noisy = noise_floor(kFanFallQ8 / 4, kFanFallSigmaQ4);
     if (noisy < fall_end) fall_end = noisy;
   }
@@ -1857,8 +1973,7 @@ void Autotune::decay_step(uint8_t s) {
   if (!hot_start_) {
     d.rise_a_q8 = p.fit_q_q8;
     d.rise_b_q8 = p.fit_r_q8;
-    const bool fell = p.fit_q_q8 - p.fit_r_q8 > p.fit_q_q8 >> 3 && p.fit_r_q8 > p.dev_peak_q8 >> 1;
-    d.bins = static_cast<uint16_t>(probe_tail() && fell ? p.fit_p_q6 : 0);
+    d.bins = static_cast<uint16_t>(probe_tail() && tail_fell() ? p.fit_p_q6 : 0);
   }
   if (s == 0) {
     v.t_decay_q8 = 0;  // here: the span's ln, Q16

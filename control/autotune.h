@@ -251,6 +251,14 @@ class Autotune {
   int32_t model_delayed() const;
   // A flat cold cut probe whose L̂ is its ramp's tangent (probe stage 5), not the cut-to-peak time.
   bool tangent_timed() const { return !probe_.continuous && probe_.max_tick == 0 && probe_.peak_bin == 0; }
+  // One whose S, 1/T and L̂ came from its tail (tail_stage; lag_q4 then holds the tail's 1/T).
+  bool tail_timed() const { return tangent_timed() && probe_tail() && probe_.lag_q4 != 0; }
+  // The tail fell by over 1/8 (its ln is then within ~1 % at σ 0.1 °C on a 40 °C pulse) and still
+  // stood at over a quarter of the peak (not noise on a pulse that has gone): a/b in (8/7, 4].
+  bool tail_fell() const { return probe_.fit_q_q8 - probe_.fit_r_q8 > probe_.fit_q_q8 >> 3 && probe_.fit_r_q8 > probe_.dev_peak_q8 >> 1; }
+  uint8_t tail_stage(uint8_t stage);
+  bool ramp_in_reading() const;
+  uint32_t pulse_loss_factor_q16(uint16_t inv_t_q16) const;
   bool sharp_peak() const;
   int32_t slope4_q8() const;
   void push_bin(int16_t model_entry);

@@ -14,14 +14,18 @@
 //             target, then either (lag-type hotend: response seen and steepening) heat on until
 //             the slope is steady — S and the tangent's dead time — or heater off until the
 //             response peaks and decays: S, the cut-to-peak time L̂ (the FOPDT's dead time) and
-//             the loss rate 1/T; a cold flat peak that decays fast (a dead time with a thermistor
-//             lag) also waits for its tail, where the block's own τ1 is left (compute: C)
+//             the loss rate 1/T; a cold peak that decays fast (a dead time, maybe behind a
+//             thermistor lag) also waits for its tail, where the block's own τ1 is left, and
+//             takes S, 1/T and L̂ from the FOPDT the tail and the pulse's area give (tail_stage;
+//             compute: C)
 //   approach  Smith predictor (FOPDT model S, L̂, 1/T, anchored to the reading) with a P law
 //             around the model's steady duty; 1/T learnt on line (slope decline at full power,
 //             model-vs-reading slope when the duty is steady); then the fan part starts here too.
 //             After a cold cut probe with a sharp peak (L̂ to the tick, the predictor's delay
-//             interpolated between bins): deadbeat (full power until the undelayed model is a
-//             bin's heat from the target), then twice the slow law's gain. A cut probe that
+//             interpolated between bins) or a tail-timed one: deadbeat (full power until the
+//             undelayed model is a bin's heat from the target), then twice the slow law's gain
+//             (after a tail-timed one with the anchor and the predictor's offset held until the
+//             deadbeat's ramp has passed through a lagged reading). A cut probe that
 //             peaked late against its response D (a sensor lag, quiet sensor): D + (L̂ − D)/2.5.
 //             A cold tangent probe too short to learn the loss at full power: 1/T learnt near the
 //             target at ¼ per bin, ū's own steps not counted as duty changes, the heat in flight

@@ -569,10 +569,12 @@ TEST(AutotuneSettledHold, ADeadTimeBehindALagReadsItsTailAndSkipsTheRelay) {
   struct Case {
     double t1, t2, dead;
   };
-  for (const Case& c : {Case{24, 2, 18.7}, Case{24, 1, 19.7}, Case{24, 4, 16}, Case{20, 2, 20}, Case{30, 3, 25}}) {
+  for (const Case& c : {Case{24, 2, 18.7}, Case{24, 1, 20}, Case{24, 4, 16}, Case{20, 2, 20}, Case{30, 3, 25}}) {
     const double d_eq = c.dead + c.t1 * std::log(c.t1 / (c.t1 - c.t2));
     const Plant p{"lag+dead", design::with_seed_fan(design::second_order(450, c.t1, c.t2, c.dead)), 210, 25, false, 450, c.t1, d_eq, c.t2, 0};
-    for (const unsigned long long seed : {12345ULL, 2ULL}) {
+    // (Realisation 7 of 24/1/20 peaked sharp enough for an FOPDT's: its peak's S, 8 % low, led
+    // the deadbeat to S + 10.3 °C before sharp peaks read their tail too.)
+    for (const unsigned long long seed : {12345ULL, 2ULL, 7ULL}) {
       const TuneRun r = run(p, 5, true, 0.1, false, 1.0, -1, false, 1800, seed);
       const control::HotendModel& m = r.result.model;
       std::printf("%.0f/%.0f/%.1f s seed %5llu: %6.1f s (bound + 180: %.1f), max − S %.2f °C, A %.1f C %.2f D %.2f (%.2f) F %.1f\n",
@@ -582,11 +584,12 @@ TEST(AutotuneSettledHold, ADeadTimeBehindALagReadsItsTailAndSkipsTheRelay) {
       EXPECT_EQ(r.cycles, 0) << c.t2 << " seed " << seed;
       EXPECT_EQ(r.overruns, 0) << c.t2 << " seed " << seed;
       // The bound + 3 min on the bank's seed002-lag2 (the first case); the others, not in
-      // the bank, measured 170–230 s (30/3/25 up to bound + 185 s: its hold waits out the window).
+      // the bank, measured 173–253 s (30/3/25 up to bound + 29 s more: its hold waits out the window).
       EXPECT_LE(r.duration_s, r.heatup_s + (c.t2 == 2 && c.t1 == 24 ? 180 : 240)) << c.t2 << " seed " << seed;
       EXPECT_LE(r.max_c, p.target_c + 1.0) << c.t2 << " seed " << seed;
       EXPECT_NEAR(q8(m.rise_q8), p.k, 0.01 * p.k) << c.t2 << " seed " << seed;
-      EXPECT_NEAR(q8(m.time_constant_q8), c.t1, 0.03 * c.t1) << c.t2 << " seed " << seed;
+      // (τ2 4 s still lifts the fourth window's tail: 24/4/16 read C up to 24.95 s.)
+      EXPECT_NEAR(q8(m.time_constant_q8), c.t1, 0.05 * c.t1) << c.t2 << " seed " << seed;
       EXPECT_NEAR(q8(m.dead_time_q8), d_eq, 0.05 * d_eq) << c.t2 << " seed " << seed;
       EXPECT_NEAR(q8(m.fan_loss_pct_q8), fan_pct(p.model, p.k), 0.05 * fan_pct(p.model, p.k)) << c.t2 << " seed " << seed;
     }

@@ -9,7 +9,7 @@
 //   every step: checks, the 4-reading filter, bin sums, the phase's per-tick logic
 //     (probe pulse, relay compares; a relay switch copies the cycle's figures)
 //   the step a bin completes: only the bin means and histories (shifts, no division)
-//   the next steps, one each: that bin's logic as stages (bin_stage): baseline 3, probe ≤ 3,
+//   the next steps, one each: that bin's logic as stages (bin_stage): baseline 3, probe ≤ 6 (the tail's model: 5, then 1),
 //     probe → approach 3 (the model history is generated one entry per bin as it is read,
 //     not all at once), approach 6, relay 3, fan step 1 (sums, no division); a relay cycle's end 3 more (cycle_stage), taking
 //     precedence; they all fit in the 7 steps before the next bin (overruns() counts misses)
@@ -18,7 +18,8 @@
 // -mcall-prologues, no LTO; step() called on readings recorded from the host runs of hotend40w
 // cold and hot, seed002, seed000-5, fopdt-30-1, the outputs checked equal to the host's):
 //   a step with no piece pending ≈ 460–530; the step that completes a bin ≤ 1,500
-//   baseline ≤ 1,360; probe ≤ 1,490; hand-over ≤ 1,470; approach ≤ 1,755 (loss learning: a
+//   baseline ≤ 1,360; probe ≤ 1,490 (the tail's model, 2026-12-08: whole control step in simavr
+//   ≤ 2,865 on seed002-lag2); hand-over ≤ 1,470; approach ≤ 1,755 (loss learning: a
 //   division, a mul_q16 and a 32×16 multiply); relay ≤ 1,720 (bias nudge), a cycle's end
 //   ≤ 1,640; compute ≤ 1,865 (the T division with its normalising shifts). A lag probe's
 //   approach adds a mul_q16 to its stages 1 and 6 (2026-12-05; whole control step in simavr
@@ -866,8 +867,8 @@ __attribute__((noinline)) uint32_t Autotune::pulse_loss_factor_q16(uint16_t inv_
   return 65536 + x / 2 + ((((x16 * x16) >> 8) * 5461u) >> 16);
 }
 
-// A cold cut probe whose flat peak decays fast (a dead time, maybe behind a thermistor lag τ2)
-// read its tail (stage 3, the bin logic): two 2-bin sums a, b one window w apart, where the
+// A cold cut probe whose peak (flat or sharp) decays fast (a dead time, maybe behind a thermistor
+// lag τ2) read its tail (stage 3, the bin logic): two 2-bin sums a, b one window w apart, where the
 // block's own e^(−t/τ1) is nearly all that is left. Its peak's S (the highest bin over the pulse)
 // and early 1/T are both blunted by τ2 (seed002 behind a 2 s lag: S 15.9 per bin for 19.2,
 // T 38 s for 24; the approach's model put ~120 °C in flight at 35 °C and crawled on the slow law
@@ -933,7 +934,7 @@ __attribute__((noinline)) uint8_t Autotune::tail_stage(uint8_t stage) {
   }
   if (l > 0 && l < peak_t && p.y_after_q8 > 0) {
     slope_q8_ = p.y_after_q8 < p.slope_max_q8 ? p.slope_max_q8 : (p.y_after_q8 > 32767 ? 32767 : p.y_after_q8);
-    inv_t_q16_ = p.lag_q4;
+    inv_t_q16_ = p.lag_q4 > 16384 ? 16384 : p.lag_q4;  // the probe's and the approach's clamp
     horizon_ticks_ = l;
     p.peak_bin = 0;  // tangent_timed(), tail_timed()
     p.max_tick = 0;
@@ -1081,7 +1082,9 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
     // S + 16 °C (issue 7's envelope, autotune_fuzz: 17 of 600 sampled hotends, all within
     // S + 2.3 °C after; heavy-slow at σ 0.2 tuned in 1,061 s instead of 1,599).
     const uint16_t det_bin = near(probe_).det_bin;
-    ap.lag_probe = !probe_.continuous && !hot_start_ && probe_.retries == 0 && probe_.max_tick == 0 &&
+    // (Not a tail-timed probe: its L̂ is the tail's dead time, lag included, not a late peak; and
+    // its landing keeps its figures in det_bins and det_flight_q8.)
+    ap.lag_probe = !tail_timed() && !probe_.continuous && !hot_start_ && probe_.retries == 0 && probe_.max_tick == 0 &&
                    noise_q8_ <= kLagRuleNoiseQ8 && 2 * horizon_ticks_ > 3 * kTicksPerBin * static_cast<int32_t>(det_bin);
     ap.det_bins = static_cast<uint8_t>(det_bin < horizon_bins_ ? det_bin + 1 : horizon_bins_);
     // ÷5 (rounded up) as ·13108/2^16, exact for numerators < 2^14 (here ≤ 354; a division costs ~200
@@ -1116,8 +1119,9 @@ uint8_t Autotune::begin_stage(uint8_t stage) {
   ap.duty_avg_q16 = 0;
   ap.settled_bins = 0;
   ap.near_bins = 0;
-  // The deadbeat needs a model to trust: a cold cut probe with a sharp (FOPDT-like) peak (and a
-  // loss rate: ū = 0 would hold nothing once landed). Not on a flat peak, even one timed like an
+  // The deadbeat needs a model to trust: a cold cut probe with a sharp (FOPDT-like) peak, or one
+  // whose tail gave its FOPDT (tail_stage), and a loss rate (ū = 0 would hold nothing once
+  // landed). Not on a flat peak otherwise, even one timed like an
   // FOPDT's (cut-to-peak within 1.25 × pulse-to-response: fopdt-120-25's relay started 150 s
   // sooner): a light 80 W block behind a 20 s transport delay peaks flat with that timing, and
   // the deadbeat landed it at S + 3.6 °C with the relay biased above its steady duty: S + 25 °C
@@ -1242,7 +1246,7 @@ void Autotune::model_bin() {
 // After a tail-timed probe's deadbeat, until its full-power ramp has passed through the reading
 // (approach stage 6): neither the anchor nor the predictor follows the reading.
 __attribute__((noinline)) bool Autotune::ramp_in_reading() const {
-  return appr_.landed == 4 && tail_timed() && bins_ < appr_.det_bins;
+  return phase_ == Phase::kApproach && appr_.landed == 4 && tail_timed() && bins_ < appr_.det_bins;
 }
 
 // The stage after model_bin: the pre-approach history entry about to be read, and the anchor.
@@ -1259,7 +1263,9 @@ void Autotune::model_anchor() {
   const int32_t err = y_bin_q8_ - ambient_q8_ - model_delayed();
   // A tail-timed probe's landing (approach stage 6 of the last bin; no lag probe: det_bins and
   // det_flight_q8 are free): the reading's offset from the model now, held until the ramp has
-  // passed through the reading, L̂ + 3 bins on and half the peak's lateness (ticks) more.
+  // passed through the reading: L̂ + 3 bins on, and 4 × the peak's lateness against L more (its
+  // ticks / 2, as bins: measured; at 1 × or ½ × the hold failed into the relay on up to 3 of 8
+  // more realisations of 24/2/18.7, 24/2/20 and 30/3/25, and max − S rose to 1.4–2.6 °C).
   int32_t anchor = div2n(err, 2);
   if (ap.landed == 4 && tail_timed()) {
     if (ap.det_bins == 0) {
@@ -1361,7 +1367,8 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
           // history without it, and over-predicted the heat in flight by the loss over L̂ bins
           // (fopdt-120-25: cut at 137 °C, landed 20 °C short, then a P law's 110 s creep):
           // rebuild it with the loss just learnt (stage 9).
-          if (first && inv_t != 0 && ap.landed == 0 && probe_.max_tick == 0 && !ap.lag_probe) return 9;
+          // (Not after a tail-timed probe: its S comes from the pulse's area over T, loss and all.)
+          if (first && inv_t != 0 && ap.landed == 0 && probe_.max_tick == 0 && !ap.lag_probe && !tail_timed()) return 9;
         }
         // A probe cut short while the lags were still filling (a hot start has little room
         // below the target) leaves S low, so the steady duty ū = loss/S comes out high and the
@@ -1723,7 +1730,8 @@ bool Autotune::relay_tick(int32_t yf, int32_t y) {
   // approach's end). L̂ ≤ 254 bins, 1/T < 2^16: the product < 2^24. Likewise at any noise where L̂
   // is a tangent-timed dead time (probe stage 5: the response is the pulse's own ramp, no lag):
   // no crossing within D of a switch is the switch's (fopdt-delay25 at σ 0.3 °C, one realisation:
-  // halves of 12 s on noise crossings, D read 10 s for 25); the same 2 °C exception.
+  // halves of 12 s on noise crossings, D read 10 s for 25); the same 2 °C exception. (A tail-timed
+  // L̂ is a dead time too, a short lag's included: its relay, where the hold fails, keeps the rule.)
   const bool first_settled_half = settling_cycles_ == 0 && !started_cycle_;
   const bool noisy_dead_time = !untrusted_ && !first_settled_half && noise_q8_ > kLongHalfNoiseQ8 &&
                                uint32_t{horizon_bins_} * inv_t_q16_ >= kLongHalfLOverTQ16 &&
@@ -1887,7 +1895,8 @@ __attribute__((noinline)) void Autotune::end_nofan() {
 // loop, in a few dead times (the hold it replaces waited for the approach law to bring the
 // reading back from the dip and then held ⌈C/2⌉ × (L̂ + 2) bins: seed002 211 s, now 28 s).
 // From L̂ + 2 bins after the fan came on (2 L̂ + 2 on a lag-type hotend: its sensor lag must pass
-// too) a window of ⌈C/2⌉ × (L̂/2 + 4) bins: length in bins (< 2^10 for L̂ < 256).
+// too; after a tail-timed probe the peak's lateness against L more, in whole bins: on L̂ + 2 alone
+// the lag's transient read F 12 % low on 24/6/16, and U1's fan dip was 5.6 °C) a window of ⌈C/2⌉ × (L̂/2 + 4) bins: length in bins (< 2^10 for L̂ < 256).
 uint16_t Autotune::fan_wait_bins() const {
   const uint16_t late = tail_timed() ? static_cast<uint16_t>((probe_.y_after_q8 + 7) >> 3) : 0;
   return static_cast<uint16_t>((probe_.continuous ? 2u : 1u) * horizon_bins_ + 2u + late);

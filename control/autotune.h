@@ -196,7 +196,7 @@ class Autotune {
   uint16_t noise_q8() const { return noise_q8_; }  // reading noise σ measured so far (°C × 256)
   bool hot_start() const { return hot_start_; }  // started above ambient + 15 °C (known after 3 bins)
   bool untrusted() const { return untrusted_; }     // the probe's model is not trusted (trend guard)
-  uint8_t approach_law() const { return appr_.landed; }  // 0 deadbeat, 1 landed, 2 (3) the slow law (after a flat probe's deadbeat), 4 landed after a tangent-timed one
+  uint8_t approach_law() const { return appr_.landed; }  // 0 deadbeat, 1 landed, 2 (3) the slow law (after a flat probe's deadbeat), 4 landed after a tangent- or tail-timed one
   bool lag_probe() const { return appr_.lag_probe; }
 
  private:
@@ -253,7 +253,8 @@ class Autotune {
   static uint32_t clamp_half_ticks(uint32_t ticks);
   int32_t model_ago(uint8_t bins) const;
   int32_t model_delayed() const;
-  // A flat cold cut probe whose L̂ is its ramp's tangent (probe stage 5), not the cut-to-peak time.
+  // A cold cut probe whose L̂ is a dead time, not the cut-to-peak time: a flat peak's ramp's tangent
+  // (probe stage 5), or the tail's FOPDT (tail_stage, a sharp peak's too).
   bool tangent_timed() const { return !probe_.continuous && probe_.max_tick == 0 && probe_.peak_bin == 0; }
   // One whose S, 1/T and L̂ came from its tail (tail_stage; lag_q4 then holds the tail's 1/T).
   bool tail_timed() const { return tangent_timed() && probe_tail() && probe_.lag_q4 != 0; }
@@ -361,19 +362,20 @@ class Autotune {
     int32_t dev_peak_q8;
     uint16_t peak_bin;
     bool peaked;
-    int32_t y_peak_q8;
-    int32_t y_after_q8;     // the bin after the peak's
+    int32_t y_peak_q8;      // the peak bin's reading; tail_stage: T (bins × 256) once past stage 3
+    int32_t y_after_q8;     // the bin after the peak's; tail_stage: ln(a/b), S, then the peak's lateness against L (ticks)
     uint8_t retries;
     uint16_t max_tick;       // probe tick of the highest reading after the cut (0: a flat peak)
-    int32_t slope_rise_q8;   // rise at the centre of the steepest heat-up window (cut probe: its smoothed peak)
-    int32_t area_q8;         // Σ dev over bins 1..k−2 at full power (°C × 256 × bins): the heat-up's integral
+    int32_t slope_rise_q8;   // rise at the centre of the steepest heat-up window (cut probe: its smoothed peak; tail_stage: S·on, then X)
+    int32_t area_q8;         // Σ dev over bins 1..k−2 (°C × 256 × bins): the heat-up's integral, a cut pulse's area
     // The tangent path's lag fit (lag_fit_stage): Σ = τ1 + τ2 = (K·p − q)/r once K is known;
     // r = 0: none. A cut probe's tail instead (probe_stage): the window (bins, 0: no tail) and
     // two 2-bin sums of the rise (°C × 256), at 3 and 4 windows after the peak.
     int32_t fit_p_q6;        // bins × 64
     int32_t fit_q_q8;        // °C × 256 × bins
     int32_t fit_r_q8;        // °C × 256
-    uint16_t lag_q4;         // the heat-up's lag τ (flight_stage), bins × 16; 0: not measured yet
+    uint16_t lag_q4;         // the heat-up's lag τ (flight_stage), bins × 16; 0: not measured yet. A cut probe's
+                             // tail: its 1/T per bin (Q16) where tail_stage took its model, else 0
   };
   // A point of the heat-up at full power (bin centre, in bins since the pulse began; the tangent
   // path's lag fit): its rise above the baseline, slope per bin and integral since the pulse began.
@@ -414,7 +416,7 @@ class Autotune {
     uint8_t near_bins;       // bins within 2 °C of the target (a stalled approach)
     uint8_t landed;          // 0 deadbeat (trusted cut probe's first approach), 1 landed, 2 the slow law,
                              // 3 the slow law after the deadbeat on a flat probe's model (stage 9 rebuilds it),
-                             // 4 landed after the deadbeat on a tangent-timed flat probe's model (L̂ to the
+                             // 4 landed after the deadbeat on a tangent- or tail-timed probe's model (L̂ to the
                              // tick: the model read at L̂, the landed gain, a ±1 °C settled window later)
     int32_t ref_rise_q8;
     int32_t ref_slope_q8;     // loss learning: rise where the slope S was measured
@@ -434,8 +436,10 @@ class Autotune {
     int8_t side;
     bool lag_probe;          // a cold cut probe that peaked late against its response (a sensor lag)
     uint8_t bins;            // the approach's response time in bins: L̂, or a lag probe's (2L̂ + 3D)/5
-    uint8_t det_bins;        // D: the probe's pulse-to-response time in bins
-    int32_t det_flight_q8;   // 3/5 of the model's rise over the last D bins (stage 1 for stage 6)
+    uint8_t det_bins;        // D: the probe's pulse-to-response time in bins (after a tail-timed landing:
+                             // the approach bin the ramp has passed through the reading by; 0 until set)
+    int32_t det_flight_q8;   // 3/5 of the model's rise over the last D bins (stage 1 for stage 6); after a
+                             // tail-timed landing: the reading's offset from the model then (model_anchor)
     bool overshot;           // the reading went 1 °C past the target (no relay without a settling cycle)
     bool near_only;          // a trusted tangent probe's loss, not yet learnt at full power (stage 3 learns it)
     bool unlearnt;           // this bin's loss learning waited on a moving duty or moved 1/T by over 1/32 of itself

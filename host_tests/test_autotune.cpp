@@ -582,6 +582,7 @@ TEST(AutotuneSettledHold, ADeadTimeBehindALagReadsItsTailAndSkipsTheRelay) {
                   q8(m.time_constant_q8), q8(m.dead_time_q8), d_eq, q8(m.fan_loss_pct_q8));
       ASSERT_EQ(r.state, AutotuneState::kFinished) << c.t2 << " seed " << seed;
       EXPECT_EQ(r.cycles, 0) << c.t2 << " seed " << seed;
+      EXPECT_FALSE(r.lag_probe) << c.t2 << " seed " << seed;  // the tail's L̂ is a dead time
       EXPECT_EQ(r.overruns, 0) << c.t2 << " seed " << seed;
       // The bound + 3 min on the bank's seed002-lag2 (the first case); the others, not in
       // the bank, measured 173–253 s (30/3/25 up to bound + 29 s more: its hold waits out the window).

@@ -9,8 +9,8 @@
 //   every step: checks, the 4-reading filter, bin sums, the phase's per-tick logic
 //     (probe pulse, relay compares; a relay switch copies the cycle's figures)
 //   the step a bin completes: only the bin means and histories (shifts, no division)
-//   the next steps, one each: that bin's logic as stages (bin_stage): baseline 3, probe ≤ 6 (the tail's model: 5, then 1),
-//     probe → approach 3 (the model history is generated one entry per bin as it is read,
+//   the next steps, one each: that bin's logic as stages (bin_stage): baseline 3, probe ≤ 3
+//     (the tail's model: 5 in its last bin, 1 in the next), probe → approach 3 (the model history is generated one entry per bin as it is read,
 //     not all at once), approach 6, relay 3, fan step 1 (sums, no division); a relay cycle's end 3 more (cycle_stage), taking
 //     precedence; they all fit in the 7 steps before the next bin (overruns() counts misses)
 //   compute: one stage per step (a division, or a logarithm or two) for ≈ 62 steps
@@ -1447,8 +1447,8 @@ uint8_t Autotune::approach_stage(uint8_t stage) {
       // time behind a thermistor lag, whose reading leads the model's delayed copy where the
       // full-power ramp starts to show and lags it where it ends (24/2/18.7 s: +16 °C for a few
       // bins). The P law took that for a landing error and cut the duty to 0.36 (a 1.6 °C dip L̂
-      // later, then 0.9 °C over). Until the landing's ramp has passed through the reading
-      // (stage 6 of the landing bin), the correction stays the one at the landing.
+      // later, then 0.9 °C over). Until the landing's ramp has passed through the reading, the
+      // correction stays the one model_anchor took in the bin after the landing.
       if (ap.landed == 4 && ramp_in_reading()) in_flight = model_ago(0) - y_bin_q8_ + ap.det_flight_q8;
       const int32_t predicted = y_bin_q8_ + in_flight;
       int32_t ex = fixed::clamp(target_q8_ - predicted, -200 * kQ8, 200 * kQ8);
@@ -1896,7 +1896,8 @@ __attribute__((noinline)) void Autotune::end_nofan() {
 // reading back from the dip and then held ⌈C/2⌉ × (L̂ + 2) bins: seed002 211 s, now 28 s).
 // From L̂ + 2 bins after the fan came on (2 L̂ + 2 on a lag-type hotend: its sensor lag must pass
 // too; after a tail-timed probe the peak's lateness against L more, in whole bins: on L̂ + 2 alone
-// the lag's transient read F 12 % low on 24/6/16, and U1's fan dip was 5.6 °C) a window of ⌈C/2⌉ × (L̂/2 + 4) bins: length in bins (< 2^10 for L̂ < 256).
+// the lag's transient read F 12 % low on 24/6/16, and U1's fan dip was 5.6 °C) a window of
+// ⌈C/2⌉ × (L̂/2 + 4) bins: length in bins (< 2^10 for L̂ < 256).
 uint16_t Autotune::fan_wait_bins() const {
   const uint16_t late = tail_timed() ? static_cast<uint16_t>((probe_.y_after_q8 + 7) >> 3) : 0;
   return static_cast<uint16_t>((probe_.continuous ? 2u : 1u) * horizon_bins_ + 2u + late);

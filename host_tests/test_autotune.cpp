@@ -560,7 +560,7 @@ TEST(AutotuneSettledHold, DeadTimeFopdtHotendsSkipTheRelayAndKeepTheirModel) {
   }
 }
 
-// A dead time behind a thermistor lag (τ1/τ2/D): the flat probe reads its tail, whose FOPDT
+// A dead time behind a thermistor lag (τ1/τ2/D): the cut probe reads its tail, whose FOPDT
 // (τ1, the pulse's area for K, L from the tail's height) leads the deadbeat, and the landing
 // holds, as on an FOPDT. Before, the probe's blunted peak and early decay (24/2/18.7: S 15.9 per
 // bin for 19.2, T 38 s for 24) left the slow law crawling (218 s) and a relay (270 s): 570 s, up
